@@ -1,0 +1,30 @@
+"""Writing artifacts so that a killed run never leaves half a file.
+
+Every output is written to a temporary file beside its destination and
+renamed onto it only when complete; a rename within one directory is atomic
+on POSIX file systems.
+"""
+
+import os
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+
+@contextmanager
+def atomic_path(path):
+    """Yield a temporary path to write; it replaces ``path`` only if the block succeeds.
+
+    The temporary name keeps the destination's suffix, for writers that
+    choose a format by extension.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)

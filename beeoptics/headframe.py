@@ -1,0 +1,81 @@
+"""The head frame and directions in it.
+
+The head frame is the one every table and image uses: +x anterior, +y to
+the bee's left, +z dorsal, in millimetres, origin between the eyes. The
+right eye therefore lies at negative y.
+
+Azimuth is measured in the horizontal plane from +x, positive towards the
+eye's own side (towards -y for the right eye, +y for the left); elevation is
+measured from the xy-plane, positive dorsal. These are the conventions of
+Stürzl et al. (2010) for the field of view of one eye.
+
+References
+----------
+Stürzl W, Boeddeker N, Dittmar L, Egelhaaf M (2010) Mimicking honeybee eyes
+with a 280° field of view catadioptric imaging system. Bioinspir Biomim
+5:036002.
+"""
+
+import numpy as np
+
+SIDES = ("right", "left")
+
+
+def side_sign(side):
+    """Return -1 for the right eye and +1 for the left: the sign of y on that side."""
+    if side not in SIDES:
+        raise ValueError(f"side must be one of {SIDES}, not {side!r}")
+    return -1.0 if side == "right" else 1.0
+
+
+def direction(azimuth_deg, elevation_deg, side="right"):
+    """Unit vectors in the head frame for azimuths and elevations of one eye.
+
+    Parameters
+    ----------
+    azimuth_deg, elevation_deg : array_like
+        Degrees, azimuth positive towards the eye's own side.
+    side : {"right", "left"}
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+    """
+    az = np.deg2rad(np.asarray(azimuth_deg, float))
+    el = np.deg2rad(np.asarray(elevation_deg, float))
+    return np.stack(
+        [np.cos(el) * np.cos(az), side_sign(side) * np.cos(el) * np.sin(az), np.sin(el)], -1
+    )
+
+
+def azimuth_elevation(vectors, side="right"):
+    """Azimuth and elevation in degrees of head-frame vectors, as seen by one eye."""
+    v = np.asarray(vectors, float)
+    v = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    az = np.degrees(np.arctan2(side_sign(side) * v[..., 1], v[..., 0]))
+    el = np.degrees(np.arcsin(np.clip(v[..., 2], -1.0, 1.0)))
+    return az, el
+
+
+def eye_rotation(azimuth_deg, elevation_deg, roll_deg=0.0):
+    """Rotation whose rows are the right eye's local x, y, z axes in the head frame.
+
+    Local z points along (azimuth, elevation); local y is the head's dorsal
+    direction made perpendicular to z, then turned by ``roll_deg`` about z;
+    local x = y × z, which for a laterally facing right eye points anterior.
+    """
+    z = direction(azimuth_deg, elevation_deg, "right")
+    up = np.array([0.0, 0.0, 1.0])
+    y = up - z * (up @ z)
+    y /= np.linalg.norm(y)
+    x = np.cross(y, z)
+    r = np.deg2rad(roll_deg)
+    x, y = np.cos(r) * x + np.sin(r) * y, -np.sin(r) * x + np.cos(r) * y
+    return np.stack([x, y, z])
+
+
+def mirror(points):
+    """Mirror head-frame points or vectors through the sagittal (xz) plane."""
+    out = np.array(points, float, copy=True)
+    out[..., 1] *= -1.0
+    return out

@@ -1,0 +1,182 @@
+"""Scenes: geometry, spectral materials and daylight, read from ``scenes/<name>/scene.yaml``.
+
+The format is described in ``beeoptics/schemas/scene.schema.yaml`` and in
+the README. In short: metres, world +z up, azimuths from +x towards +y;
+``light`` sets the sky (``preetham``, ``uniform`` or ``none``) and the sun
+(elevation, azimuth, turbidity); ``eye`` places the bee's head (position,
+heading, pitch); ``camera`` a pinhole for the human view; ``materials``
+name spectral materials (:mod:`beeoptics.materials`); ``objects`` are
+meshes (read with pymeshlab: PLY, OBJ, glTF, STL, OFF) or primitives, each
+with one material, or a pattern: face colours mapped to materials by a
+``palette`` (per face), or a texture image whose colours a palette maps
+to materials (per texel).
+"""
+
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import open3d as o3d
+import OpenImageIO as oiio
+from scipy.spatial.transform import Rotation
+
+from beeoptics import sky as skies
+from beeoptics.errors import InputError
+from beeoptics.materials import material, spectrum
+from beeoptics.meshfile import read_mesh
+from beeoptics.validation import load_yaml, validate
+
+
+class Scene(NamedTuple):
+    name: str
+    path: Path
+    objects: list
+    material_names: list
+    reflectance: np.ndarray
+    emission: np.ndarray
+    specular: np.ndarray
+    exponent: np.ndarray
+    sky: object
+    sun: object
+    eye_position: np.ndarray
+    eye_rotation: np.ndarray
+    camera: dict
+    extent: float
+
+
+def _hex(colours):
+    rgb = np.rint(np.asarray(colours) * 255.0).astype(int)
+    return np.array([f"#{r:02x}{g:02x}{b:02x}" for r, g, b in rgb])
+
+
+def _palette_ids(colours, palette, names, source, field):
+    lookup = {k.lower(): v for k, v in palette.items()}
+    for m in lookup.values():
+        if m not in names:
+            raise InputError(source, field, f"unknown material {m!r}")
+    hexes = _hex(colours)
+    missing = sorted(set(hexes) - set(lookup))
+    if missing:
+        raise InputError(source, field, f"colours {missing[:5]} are not in the palette")
+    table = {h: names.index(lookup[h]) for h in set(hexes)}
+    return np.array([table[h] for h in hexes], dtype=np.int32)
+
+
+def _primitive(spec):
+    (kind, args), = spec.items()
+    if kind == "plane":
+        h = args["size_m"] / 2.0
+        v = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]])
+        return v, np.array([[0, 1, 2], [0, 2, 3]])
+    mesh = o3d.geometry.TriangleMesh.create_sphere(args["radius_m"], resolution=4 * 2 ** args["subdivisions"])
+    return np.asarray(mesh.vertices), np.asarray(mesh.triangles)
+
+
+def _object(spec, base, names, source, index):
+    field = f"objects.{index}"
+    if "mesh" in spec:
+        v, f, colours, uv = read_mesh(base / spec["mesh"], patterns=True)
+    else:
+        (v, f), colours, uv = _primitive(spec["primitive"]), None, None
+    rot = Rotation.from_euler("xyz", spec["rotate_deg"], degrees=True).as_matrix()
+    v = (spec["scale"] * v) @ rot.T + np.asarray(spec["translate_m"])
+    out = {"name": spec.get("name", f"object {index}"), "vertices": v, "faces": f,
+           "face_material": None, "texture": None, "uv": None}
+    if "material" in spec:
+        if spec["material"] not in names:
+            raise InputError(source, f"{field}.material", f"unknown material {spec['material']!r}")
+        out["face_material"] = np.full(len(f), names.index(spec["material"]), np.int32)
+    elif "palette" in spec:
+        if colours is None:
+            raise InputError(base / spec.get("mesh", ""), "faces", "a palette needs face colours in the mesh")
+        out["face_material"] = _palette_ids(colours, spec["palette"], names, source, f"{field}.palette")
+    elif "texture" in spec:
+        if uv is None:
+            raise InputError(base / spec.get("mesh", ""), "faces", "a texture needs texture coordinates in the mesh")
+        image_path = base / spec["texture"]["image"]
+        buf = oiio.ImageBuf(str(image_path))
+        if buf.has_error:
+            raise InputError(image_path, "", f"cannot read image: {buf.geterror()}")
+        pixels = buf.get_pixels(oiio.FLOAT)[:, :, :3]
+        ids = _palette_ids(pixels.reshape(-1, 3), spec["texture"]["palette"], names, source,
+                           f"{field}.texture.palette")
+        out["texture"] = ids.reshape(pixels.shape[:2])
+        out["uv"] = uv
+    else:
+        raise InputError(source, field, "an object needs a material, a palette or a texture")
+    return out
+
+
+def load_scene(path, wavelengths, light=None):
+    """Read and check a scene file.
+
+    Parameters
+    ----------
+    path : str or Path
+    wavelengths : ndarray
+        The spectral grid, nm.
+    light : dict, optional
+        Overrides for the scene's ``light`` section (for sweeps).
+    """
+    path = Path(path)
+    data = load_yaml(path)
+    if isinstance(data, dict) and light:
+        data.setdefault("light", {}).update(light)
+    data = validate(data, "scene", path)
+    base = path.parent
+    wl = np.asarray(wavelengths, float)
+    names = list(data["materials"])
+    mats = [material(data["materials"][n], wl, base, path, n) for n in names]
+    objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])]
+
+    lt = data["light"]
+    sky = None
+    if lt["sky"] == "uniform":
+        if "radiance" not in lt:
+            raise InputError(path, "light.radiance", "a uniform sky needs a radiance spectrum")
+        radiance = spectrum(lt["radiance"], wl, base, path, "light.radiance")
+        if "luminance_cd_m2" in lt:
+            radiance = radiance * lt["luminance_cd_m2"] / skies.luminance(wl, radiance)
+        sky = skies.uniform_sky(radiance, lt["hemisphere"])
+    sun_disc = None
+    if lt["sun"] or lt["sky"] == "preetham":
+        sun_disc = skies.sun(wl, lt["sun_elevation_deg"], lt["sun_azimuth_deg"], lt["turbidity"])
+    if lt["sky"] == "preetham":
+        sky = skies.preetham_sky(wl, sun_disc.direction, lt["turbidity"])
+    if not lt["sun"]:
+        sun_disc = None
+    emitting = any(m["emission"].max() > 0 for m in mats)
+    lit = (sky is not None and sky.basis.max() > 0) or (sun_disc is not None and sun_disc.radiance.max() > 0)
+    if not (lit or emitting):
+        raise InputError(path, "light", "the scene has no light: no sky, no sun above the horizon, no emitting material")
+
+    e = data["eye"]
+    head = (Rotation.from_euler("z", e["heading_deg"], degrees=True)
+            * Rotation.from_euler("y", -e["pitch_deg"], degrees=True)).as_matrix()
+    every = np.vstack([o["vertices"] for o in objects])
+    return Scene(
+        name=data["name"], path=path, objects=objects, material_names=names,
+        reflectance=np.stack([m["reflectance"] for m in mats]),
+        emission=np.stack([m["emission"] for m in mats]),
+        specular=np.array([m["specular"] for m in mats]),
+        exponent=np.array([m["exponent"] for m in mats]),
+        sky=sky, sun=sun_disc,
+        eye_position=np.asarray(e["position_m"], float), eye_rotation=head,
+        camera=data.get("camera"),
+        extent=float(np.linalg.norm(np.ptp(every, axis=0))),
+    )
+
+
+def raycasting_scene(scene):
+    """Open3D's Embree scene for the scene's objects; geometry ids follow their order."""
+    rs = o3d.t.geometry.RaycastingScene()
+    for o in scene.objects:
+        rs.add_triangles(o3d.core.Tensor(o["vertices"].astype(np.float32)),
+                         o3d.core.Tensor(o["faces"].astype(np.uint32)))
+    return rs
+
+
+def receptors_in_world(scene, positions_mm, axes):
+    """Receptor positions (m) and axes in the scene, from the head frame (mm)."""
+    r = scene.eye_rotation
+    return positions_mm * 1e-3 @ r.T + scene.eye_position, axes @ r.T

@@ -1,0 +1,131 @@
+"""Spectra: the wavelength grid, resampling onto it, and pavo's CSV layout.
+
+Every spectrum in the tracer lives on one uniform grid, 300–700 nm by
+default (the range of the bee's receptors, Collins eq. 1–3, and of pavo),
+at the step the config sets. Collins used 8 samples; the default here is
+5 nm. Spectra from files or data sets are resampled onto the grid with
+colour-science, by linear interpolation, which cannot overshoot into
+negative reflectance as a spline can near a sharp absorption edge.
+
+pavo's layout (Maia et al. 2019) is a CSV whose first column is the
+wavelength in nm and whose other columns are one spectrum each; values
+above 1 anywhere mean percent, as in pavo's ``vismodel``.
+
+References
+----------
+Maia R, Gruson H, Endler JA, White TE (2019) pavo 2: new tools for the
+spectral and spatial analysis of colour in R. Methods Ecol Evol 10:1097–1107.
+"""
+
+import colour
+import numpy as np
+
+from beeoptics.errors import InputError
+from beeoptics.table import read_table, write_table
+
+#: How far beyond its last measured wavelength a spectrum may be held
+#: constant, nm: FReD's spectra stop at 699 nm, one short of the grid.
+EDGE_TOLERANCE_NM = 2.0
+
+
+def grid(start_nm=300.0, end_nm=700.0, step_nm=5.0):
+    """The uniform wavelength grid, nm, both ends included."""
+    n = int(round((end_nm - start_nm) / step_nm)) + 1
+    return start_nm + step_nm * np.arange(n)
+
+
+def resample(wavelengths, values, onto, source="spectrum", field=""):
+    """Resample spectra onto a grid with colour-science.
+
+    Parameters
+    ----------
+    wavelengths : array_like, shape (k,)
+        nm, increasing.
+    values : array_like, shape (k,) or (k, m)
+        One spectrum per column.
+    onto : ndarray
+        The target grid, nm.
+    source, field : str
+        Named in the error if the spectra do not cover the grid.
+
+    Returns
+    -------
+    ndarray, shape (len(onto),) or (len(onto), m)
+
+    Raises
+    ------
+    InputError
+        If the data stop short of either end of the grid by more than
+        :data:`EDGE_TOLERANCE_NM`, or hold NaN.
+    """
+    wl = np.asarray(wavelengths, float)
+    v = np.asarray(values, float)
+    if wl[0] - onto[0] > EDGE_TOLERANCE_NM or onto[-1] - wl[-1] > EDGE_TOLERANCE_NM:
+        raise InputError(
+            source, field,
+            f"covers {wl[0]:g}–{wl[-1]:g} nm; spectra must cover {onto[0]:g}–{onto[-1]:g} nm",
+        )
+    if np.isnan(v).any():
+        raise InputError(source, field, "holds NaN")
+    columns = v.reshape(len(wl), -1)
+    step = onto[1] - onto[0] if len(onto) > 1 else 1.0
+    cover = colour.SpectralShape(min(wl[0], onto[0]), max(wl[-1], onto[-1]), 1.0)
+    out = np.empty((len(onto), columns.shape[1]))
+    for j in range(columns.shape[1]):
+        sd = colour.SpectralDistribution(columns[:, j], wl, interpolator=colour.LinearInterpolator)
+        # Edges within the tolerance are held at their last measured value.
+        sd.extrapolate(cover, extrapolator_kwargs={"method": "Constant", "left": None, "right": None})
+        sd.interpolate(colour.SpectralShape(onto[0], onto[-1], step), interpolator=colour.LinearInterpolator)
+        out[:, j] = sd.values
+    return out.reshape((len(onto),) + v.shape[1:])
+
+
+def read_pavo_csv(path, onto=None):
+    """Read spectra in pavo's layout: a wavelength column, then one column per sample.
+
+    Percent is detected as in pavo (any value above 1) and turned into a
+    fraction. Negative values, as spectrometer noise makes near zero, are
+    refused rather than clipped, since they are as often a sign of a wrong
+    file.
+
+    Returns
+    -------
+    names : list of str
+    wavelengths : ndarray, nm (``onto`` if given)
+    values : ndarray, shape (n_wavelengths, n_samples), fraction
+    """
+    table = read_table(path)
+    names = list(table)
+    if len(names) < 2:
+        raise InputError(path, "", "expected a wavelength column and at least one spectrum")
+    wl_name, samples = names[0], names[1:]
+    wl = np.asarray(table[wl_name], float)
+    if wl.dtype.kind != "f" or np.any(np.diff(wl) <= 0):
+        raise InputError(path, wl_name, "the first column must hold increasing wavelengths in nm")
+    values = np.column_stack([_numeric(table[s], path, s) for s in samples])
+    for j, s in enumerate(samples):
+        if np.isnan(values[:, j]).any():
+            raise InputError(path, s, "holds NaN")
+        if (values[:, j] < 0).any():
+            raise InputError(path, s, "holds negative values")
+    if values.max() > 1.0:
+        values = values / 100.0
+    if onto is not None:
+        values = np.column_stack([resample(wl, values[:, j], onto, path, s) for j, s in enumerate(samples)])
+        wl = onto
+    return samples, wl, values
+
+
+def _numeric(column, path, name):
+    if column.dtype.kind not in "iuf":
+        try:
+            return column.astype(float)
+        except ValueError:
+            raise InputError(path, name, "holds a value that is not a number") from None
+    return column.astype(float)
+
+
+def write_pavo_csv(path, wavelengths, spectra):
+    """Write spectra in pavo's layout; ``spectra`` maps names to arrays on ``wavelengths``."""
+    write_table(path, {"wl": np.asarray(wavelengths, float), **{k: np.asarray(v, float) for k, v in spectra.items()}})
+

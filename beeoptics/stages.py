@@ -1,0 +1,244 @@
+"""The workflow's stages, one function each, from input files to artifacts.
+
+Each function reads its inputs, calls the library, and writes its outputs
+atomically; the Snakemake rules in ``workflow/rules`` and the command-line
+tool call nothing else.
+"""
+
+import json
+import logging
+import time
+from contextlib import contextmanager
+
+import colour
+import igl
+import numpy as np
+
+from beeoptics import optics
+from beeoptics.catches import acceptance_solid_angle, quantum_catches
+from beeoptics.imagefile import write_exr, write_png
+from beeoptics.receptors import read_receptors
+from beeoptics.retina import canvas, density, retinal_plane, voronoi
+from beeoptics.scene import load_scene, raycasting_scene, receptors_in_world
+from beeoptics.sensitivity import RECEPTORS, receptor_sensitivities
+from beeoptics.spectra import grid
+from beeoptics.table import read_table, write_table
+from beeoptics.trace import trace_paths
+from beeoptics.atomic import atomic_path
+from beeoptics.eyefile import load_eye, load_eye_mesh
+from beeoptics.facetmap import anchor_vertices, diameter_map
+from beeoptics.lattice import conformal_map, project_grid
+from beeoptics.meshfile import read_mesh_normals, write_mesh
+from beeoptics.meshquery import MeshQuery
+from beeoptics.quality import checks, lattice_quality, optics_quality, zone_contrast
+from beeoptics.receptors import delta_phi, receptor_table, to_head, write_receptors
+from beeoptics.relax import relax
+from beeoptics.remesh import remesh
+
+
+log = logging.getLogger("beeoptics")
+
+
+@contextmanager
+def logging_to(path):
+    """Send the package's log messages to a file (a rule's log) for the duration."""
+    handler = logging.FileHandler(path, mode="w")
+    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
+    log.addHandler(handler)
+    log.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        log.removeHandler(handler)
+        handler.close()
+
+
+def write_json(path, data):
+    """Write JSON atomically, keys in order, for stable diffs."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(data, indent=2, sort_keys=False) + "\n")
+
+
+def remesh_eye(eye_file, remeshed_ply, edge_fraction=1 / 3, subdivisions=2):
+    """Stage 1: remesh an eye's hand-made mesh isotropically.
+
+    The target edge length is ``edge_fraction`` of the mean facet diameter
+    of the eye's anchors: with the default, a third of a typical facet and
+    at most half of the smallest (the drone's 17.7 µm against its mean of 27 µm).
+    """
+    eye = load_eye(eye_file)
+    vertices, faces = load_eye_mesh(eye)
+    typical_mm = np.mean([a["diameter_um"] for a in eye["facet_diameter"]["anchors"]]) * 1e-3
+    v, f, n = remesh(vertices, faces, edge_fraction * typical_mm, subdivisions=subdivisions)
+    write_mesh(remeshed_ply, v, f, n)
+
+
+def place_facets(eye_file, remeshed_ply, receptors_csv, quality_json, relaxation_npz,
+                 tolerance_um=0.01, delta_rho=None, progress=None):
+    """Stage 2: place the facets on the remeshed eye and describe every receptor.
+
+    Projects the hexagonal grid (count rule), relaxes it, reads the receptor
+    axes from the interpolated normals, and writes the receptor table of
+    both eyes, the quality figures and the relaxation's snapshots.
+
+    Parameters
+    ----------
+    delta_rho : dict, optional
+        ``model`` ("fixed" or "snyder") and its parameters, as in the config.
+    """
+    delta_rho = delta_rho or {"model": "fixed"}
+    eye = load_eye(eye_file)
+    v, f, n = read_mesh_normals(remeshed_ply)
+    query = MeshQuery(v, f)
+    anchors = eye["facet_diameter"]["anchors"]
+    sources = anchor_vertices(n @ eye["rotation"], anchors)
+    diameters = diameter_map(
+        v, f, sources, [a["diameter_um"] * 1e-3 for a in anchors], eye["facet_diameter"]["power"]
+    )
+    points, faces, pitch = project_grid(query, eye["facets"]["count"])
+    start = time.perf_counter()
+    result = relax(query, conformal_map(v, f), diameters, points, faces, tolerance_um * 1e-3,
+                   progress=progress)
+    seconds = time.perf_counter() - start
+
+    points, faces, edges = result["points"], result["faces"], result["edges"]
+    axes = query.interpolate(n, points, faces)
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    facet_um = query.interpolate(diameters, points, faces) * 1e3
+    dphi = delta_phi(axes, edges)
+    drho = optics.delta_rho(
+        facet_um,
+        delta_rho["model"],
+        fixed_deg=delta_rho.get("fixed_deg", optics.DELTA_RHO_WORKER_DEG),
+        wavelength_nm=delta_rho.get("wavelength_nm", optics.SNYDER_WAVELENGTH_NM),
+        rhabdom_deg=eye.get("optics", {}).get("rhabdom_acceptance_deg", optics.RHABDOM_ACCEPTANCE_DEG),
+    )
+    write_receptors(receptors_csv, receptor_table(eye, points, axes, facet_um, dphi, drho))
+
+    points_head, axes_head = to_head(eye, points, axes)
+    chord = np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1)
+    lattice = lattice_quality(edges, result["boundary"], result["geodesic"], chord, facet_um)
+    eye_optics = optics_quality(axes_head, dphi, facet_um, points_head)
+    zone = None
+    if "acute_zone" in eye.get("published", {}):
+        spec = eye["published"]["acute_zone"]
+        anchor = next(a for a in anchors if a["name"] == spec["anchor"])
+        zone = zone_contrast(axes_head, dphi, facet_um, anchor, spec["radius_deg"])
+    count = len(points)
+    write_json(quality_json, {
+        "eye": eye["name"],
+        "facets_per_eye": count,
+        "facets_published": eye["facets"]["count"],
+        "facets_published_sd": eye["facets"].get("sd"),
+        "grid_pitch_um": pitch * 1e3,
+        "relaxation": {
+            "iterations": result["iterations"],
+            "seconds": seconds,
+            "tolerance_um": tolerance_um,
+            "fill_factor": result["fill_factor"],
+        },
+        "lattice": lattice,
+        "optics": eye_optics,
+        "acute_zone": zone,
+        "published": {k: v for k, v in eye.get("published", {}).items()},
+        "checks": checks(eye, count, lattice, eye_optics, zone),
+    })
+    with atomic_path(relaxation_npz) as tmp:
+        np.savez_compressed(
+            tmp,
+            iterations=np.array([it for it, _ in result["snapshots"]]),
+            snapshots=np.stack([p for _, p in result["snapshots"]]),
+            snapshot_diameter_um=np.stack(
+                [query.interpolate(diameters, *query.project(p)) * 1e3 for _, p in result["snapshots"]]
+            ),
+            delta_phi_deg=dphi,
+            facet_diameter_um=facet_um,
+            boundary_xy=v[igl.boundary_loop(f), :2],
+        )
+
+
+def wavelengths(spectral):
+    """The spectral grid a config's ``spectral`` section describes."""
+    return grid(spectral["start_nm"], spectral["end_nm"], spectral["step_nm"])
+
+
+def trace_scene(receptors_csv, scene_file, responses_csv, irradiance_npz, *, spectral,
+                samples_per_receptor, depth, seed, batch_rays, progress=None):
+    """Stage 3: trace every receptor's acceptance cone through a scene.
+
+    Writes each receptor's spectral radiance and irradiance (``.npz``) and
+    its quantum catches (``responses.csv``).
+    """
+    wl = wavelengths(spectral)
+    scene = load_scene(scene_file, wl)
+    table = read_receptors(receptors_csv)
+    origins, axes = receptors_in_world(scene, table["position"], table["axis"])
+    drho = table["delta_rho_deg"]
+    rs = raycasting_scene(scene)
+    n = len(origins)
+    chunk = max(1, batch_rays // samples_per_receptor)
+    radiance = np.empty((n, len(wl)))
+    counts = {}
+    start = time.perf_counter()
+    for lo in range(0, n, chunk):
+        hi = min(n, lo + chunk)
+        dirs, weights = optics.cone_samples(axes[lo:hi], drho[lo:hi], samples_per_receptor, seed, first=lo)
+        radiance[lo:hi] = trace_paths(scene, origins[lo:hi], dirs, weights, depth=depth, seed=seed,
+                                      first_stream=lo, rs=rs, counts=counts)
+        if progress is not None:
+            progress(hi, n)
+    log.info("traced %d receptors, %d rays and %d shadow rays in %.1f s", n, counts["cast"],
+             counts["shadow"], time.perf_counter() - start)
+    irradiance = radiance * acceptance_solid_angle(drho)[:, None]
+    catches = quantum_catches(irradiance, receptor_sensitivities(wl), wl)
+    write_table(responses_csv, {"id": table["id"], "side": table["side"],
+                                **{r: catches[:, k] for k, r in enumerate(RECEPTORS)}})
+    with atomic_path(irradiance_npz) as tmp:
+        np.savez_compressed(tmp, id=table["id"], wavelength_nm=wl, radiance=radiance.astype(np.float32),
+                            irradiance=irradiance.astype(np.float32))
+    return counts
+
+
+def human_colour(wavelengths_nm, radiance):
+    """CIE 1931 XYZ of spectral radiances (n, n_wl) on the grid; below 360 nm counts nothing."""
+    cmf = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    wl = np.asarray(wavelengths_nm, float)
+    inside = wl >= cmf.wavelengths[0]
+    bars = np.zeros((len(wl), 3))
+    for k in range(3):
+        bars[inside, k] = np.interp(wl[inside], cmf.wavelengths, cmf.values[:, k])
+    return radiance @ bars * float(wl[1] - wl[0])
+
+
+def _display(linear, scale):
+    """Linear values to sRGB-encoded display values in [0, 1], NaN (outside the eyes) black."""
+    v = np.nan_to_num(np.asarray(linear) / scale, nan=0.0)
+    return colour.cctf_encoding(np.clip(v, 0.0, 1.0), function="sRGB")
+
+
+def map3(uv, b, g):
+    """Collins' map3: UV to red, B to blue, G to green; (1, 1, 1) is white. Linear RGB."""
+    return np.stack([uv, g, b], -1)
+
+
+def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, width_px=400):
+    """Stage 4: Voronoi, density and channel images of one eye in one scene, and the EXR of catches."""
+    eye = load_eye(eye_file)
+    table = read_receptors(receptors_csv)
+    resp = read_table(responses_csv, numeric=["id", *RECEPTORS], text=["side"])
+    q = np.column_stack([resp[r] for r in RECEPTORS])
+    data = np.load(irradiance_npz)
+    xy = retinal_plane(eye, table["position"], table["side"])
+    can = canvas(xy, width_px)
+    # One exposure for all three channels keeps their relative responses.
+    scale = np.percentile(q, 99.5)
+    colours = map3(q[:, 0], q[:, 1], q[:, 2])
+    write_png(outputs["voronoi_map3"], _display(voronoi(can, xy, table["side"], colours), scale))
+    dens = density(can, xy, table["side"], colours, normalise=False)
+    write_png(outputs["density_map3"], _display(dens, np.nanpercentile(dens, 99.5)))
+    for k, name in enumerate(("channel_uv", "channel_b", "channel_g")):
+        write_png(outputs[name], _display(voronoi(can, xy, table["side"], q[:, k]), scale)[..., 0])
+    xyz = human_colour(data["wavelength_nm"], data["radiance"])
+    srgb = colour.XYZ_to_sRGB(xyz / np.percentile(xyz[:, 1], 99.5), apply_cctf_encoding=False)
+    write_png(outputs["voronoi_map2"], _display(voronoi(can, xy, table["side"], np.clip(srgb, 0, None)), 1.0))
+    write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table["side"], q), nan=0.0), RECEPTORS)

@@ -1,0 +1,287 @@
+"""Spectral path tracing with Open3D's RaycastingScene (Embree).
+
+Every ray, primary, shadow or bounce, is cast through Open3D's
+``RaycastingScene``: ``cast_rays`` for the paths, ``test_occlusions`` for
+the shadow rays of next-event estimation towards the sun.
+
+Light transport. A path starts along a sampled direction of a receptor's
+acceptance cone (:func:`beeoptics.optics.cone_samples`). Where it leaves
+the scene it sees the sky (and, on its first segment only, the sun's
+disc). Where it meets a surface it collects the surface's emission, the
+sun's light by next-event estimation, with a shadow ray, and then scatters:
+into the Lambertian lobe, cosine-weighted, or into the glossy Phong lobe,
+chosen in proportion to their albedos. ``depth`` bounds the number of
+scattering events: depth 1 is direct light only (sun, sky and emitters
+seen from the first surface). After the second scattering, Russian
+roulette ends paths in proportion to their throughput.
+
+Spectra. Diffuse scattering multiplies a path's spectral throughput by
+the material's reflectance; glossy scattering, emission geometry and
+sampling weights are spectrally flat. A path's throughput is therefore
+exactly a scalar weight times the product of the reflectance spectra of
+the materials it scattered from, in order: the path carries that scalar
+and the sequence (as an integer key), and the products are formed once
+per distinct sequence, on the full spectral grid, when the contributions
+are summed. Light likewise is a flat weight times one of a few spectra
+(the sky's basis, the sun's radiance, a material's emission). The result
+is the full spectrum, with no RGB or band-limited shortcut, at the cost of
+scalar arithmetic per ray.
+
+Randomness. Each random number is a hash (see :mod:`beeoptics.randomness`)
+of the seed, the receptor's index, the sample's index and the dimension,
+so a receptor's result does not depend on which others are traced with it:
+a run split into chunks gives bit-identical results.
+
+References
+----------
+Kajiya JT (1986) The rendering equation. Proc SIGGRAPH 86:143–150.
+Veach E (1997) Robust Monte Carlo methods for light transport simulation.
+PhD thesis, Stanford University (next-event estimation, Russian roulette).
+Lafortune EP, Willems YD (1994) Using the modified Phong reflectance model
+for physically based rendering. Report CW197, KU Leuven.
+Steele GL, Lea D, Flood CH (2014) Fast splittable pseudorandom number
+generators. Proc OOPSLA 2014:453–472.
+"""
+
+import numpy as np
+import open3d as o3d
+from scipy import sparse
+
+from beeoptics.randomness import uniform
+from beeoptics.scene import raycasting_scene
+from beeoptics.sky import sky_coefficients
+
+#: Ray origins leave a surface by this fraction of the scene's size.
+OFFSET = 1e-7
+#: Russian roulette starts after this many scattering events.
+ROULETTE_AFTER = 2
+#: Random dimensions drawn per scattering event.
+DIMENSIONS_PER_EVENT = 6
+
+
+def _frame(n):
+    helper = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    t = np.cross(n, helper)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    return t, np.cross(n, t)
+
+
+def _around(axis, cos_t, phi):
+    t, b = _frame(axis)
+    sin_t = np.sqrt(np.maximum(0.0, 1.0 - cos_t**2))
+    return (cos_t[:, None] * axis + (sin_t * np.cos(phi))[:, None] * t
+            + (sin_t * np.sin(phi))[:, None] * b)
+
+
+class _Tables:
+    """Per-face materials of the whole scene, and the light spectra."""
+
+    def __init__(self, scene):
+        sizes = [len(o["faces"]) for o in scene.objects]
+        self.offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        self.face_material = np.concatenate(
+            [o["face_material"] if o["face_material"] is not None else np.full(len(o["faces"]), -1, np.int32)
+             for o in scene.objects])
+        self.textured = [i for i, o in enumerate(scene.objects) if o["texture"] is not None]
+        self.objects = scene.objects
+        n_sky = 0 if scene.sky is None else len(scene.sky.basis)
+        n_mat = len(scene.material_names)
+        parts = [scene.sky.basis] if scene.sky is not None else []
+        parts.append(scene.sun.radiance[None] if scene.sun is not None else np.zeros((1, scene.reflectance.shape[1])))
+        parts.append(scene.emission)
+        self.lights = np.vstack(parts)
+        self.sun_light = n_sky
+        self.emission_light = n_sky + 1
+        self.emits = scene.emission.max(axis=1) > 0.0
+        self.mean_rho = scene.reflectance.mean(axis=1)
+        self.max_rho = scene.reflectance.max(axis=1)
+        self.radix = n_mat + 1
+
+    def material(self, geometry, primitive, bary):
+        m = self.face_material[self.offset[geometry] + primitive].astype(np.int64)
+        for i in self.textured:
+            hit = np.flatnonzero(geometry == i)
+            if hit.size == 0:
+                continue
+            o = self.objects[i]
+            uv = o["uv"][primitive[hit]]
+            b = bary[hit]
+            st = (1.0 - b[:, :1] - b[:, 1:]) * uv[:, 0] + b[:, :1] * uv[:, 1] + b[:, 1:] * uv[:, 2]
+            h, w = o["texture"].shape
+            col = np.floor(st[:, 0] * w).astype(np.int64) % w
+            row = np.floor((1.0 - st[:, 1]) * h).astype(np.int64) % h
+            m[hit] = o["texture"][row, col]
+        return m
+
+
+def _cast(rs, origins, directions):
+    rays = o3d.core.Tensor(np.hstack([origins, directions]).astype(np.float32))
+    out = rs.cast_rays(rays)
+    return (out["t_hit"].numpy(), out["geometry_ids"].numpy().astype(np.int64),
+            out["primitive_ids"].numpy().astype(np.int64), out["primitive_uvs"].numpy(),
+            out["primitive_normals"].numpy().astype(np.float64))
+
+
+def _occluded(rs, origins, directions):
+    rays = o3d.core.Tensor(np.hstack([origins, directions]).astype(np.float32))
+    return rs.test_occlusions(rays).numpy().astype(bool)
+
+
+def _product_spectra(keys, reflectance, radix, depth):
+    """The product of the reflectance spectra that each key's digits name."""
+    out = np.ones((len(keys), reflectance.shape[1]))
+    k = keys.copy()
+    for _ in range(depth + 1):
+        digit = k % radix
+        sel = digit > 0
+        out[sel] *= reflectance[digit[sel] - 1]
+        k //= radix
+    return out
+
+
+def trace_paths(scene, origins, directions, weights, *, depth, seed, first_stream=0,
+                rs=None, counts=None):
+    """Spectral radiance arriving along bundles of rays, averaged per bundle.
+
+    Parameters
+    ----------
+    scene : Scene
+    origins : ndarray, shape (n, 3)
+        One origin per bundle (a receptor or a pixel), scene units.
+    directions : ndarray, shape (n, s, 3)
+        Sampled unit directions per bundle.
+    weights : ndarray, shape (n, s)
+        Sampling weights; each bundle's result is the weighted mean.
+    depth : int
+        Scattering events per path, at least 1.
+    seed : int
+    first_stream : int
+        Index of the first bundle among all bundles of the run, for the
+        random numbers: results do not depend on how a run is chunked.
+    rs : open3d.t.geometry.RaycastingScene, optional
+        Built from ``scene`` if not given.
+    counts : dict, optional
+        Incremented with the rays cast ("cast", "shadow").
+
+    Returns
+    -------
+    ndarray, shape (n, n_wavelengths)
+        Spectral radiance, W m⁻² sr⁻¹ nm⁻¹.
+    """
+    if depth < 1:
+        raise ValueError("depth must be at least 1")
+    rs = rs if rs is not None else raycasting_scene(scene)
+    tables = _Tables(scene)
+    if (depth + 1) * np.log2(tables.radix) > 62:
+        raise ValueError(f"depth {depth} is too deep for {tables.radix - 1} materials")
+    counts = counts if counts is not None else {}
+    counts.setdefault("cast", 0)
+    counts.setdefault("shadow", 0)
+    n, s = weights.shape
+    eps = OFFSET * max(scene.extent, 1.0)
+
+    bundle = np.repeat(np.arange(n), s)
+    stream = bundle + first_stream
+    sample = np.tile(np.arange(s), n)
+    o = np.repeat(origins, s, axis=0).astype(np.float64)
+    d = directions.reshape(-1, 3).astype(np.float64)
+    w = weights.reshape(-1).astype(np.float64)
+    key = np.zeros(n * s, np.int64)
+    bound = np.ones(n * s)  # an upper bound of the throughput's spectral maximum
+    contributions = []  # (bundle, key, light, weight)
+
+    def emit(idx, light, weight, keys=None):
+        keep = weight != 0.0
+        if keep.any():
+            contributions.append((bundle[idx][keep], (key[idx] if keys is None else keys)[keep],
+                                  np.broadcast_to(light, idx.shape)[keep].astype(np.int64), weight[keep]))
+
+    alive = np.arange(n * s)
+    for event in range(depth + 1):
+        t_hit, geometry, primitive, bary, normal = _cast(rs, o[alive], d[alive])
+        counts["cast"] += len(alive)
+        missed = ~np.isfinite(t_hit)
+        # Light from the sky, and from the sun's disc on first sight only (after
+        # a surface, next-event estimation has counted the sun).
+        out, dir_out = alive[missed], d[alive[missed]]
+        if scene.sky is not None and out.size:
+            c = sky_coefficients(scene.sky, dir_out)
+            for k in range(c.shape[1]):
+                emit(out, k, w[out] * c[:, k])
+        if event == 0 and scene.sun is not None and out.size:
+            seen = dir_out @ scene.sun.direction >= scene.sun.cos_radius
+            emit(out[seen], tables.sun_light, w[out[seen]])
+        alive, t_hit, geometry, primitive, bary, normal = (
+            alive[~missed], t_hit[~missed], geometry[~missed], primitive[~missed], bary[~missed], normal[~missed])
+        if alive.size == 0:
+            break
+        m = tables.material(geometry, primitive, bary)
+        glowing = tables.emits[m]
+        emit(alive[glowing], tables.emission_light + m[glowing], w[alive[glowing]])
+        if event == depth:
+            break
+
+        p = o[alive] + t_hit[:, None] * d[alive]
+        wi = -d[alive]
+        normal = np.where(((normal * wi).sum(1) < 0.0)[:, None], -normal, normal)
+        start = p + eps * normal
+        rnd = [uniform(seed, stream[alive], sample[alive], event * DIMENSIONS_PER_EVENT + j)
+               for j in range(DIMENSIONS_PER_EVENT)]
+        rho_key = key[alive] * tables.radix + (m + 1)
+        ks = scene.specular[m]
+        expo = scene.exponent[m]
+        cos_o = (normal * wi).sum(1)
+        mirror = 2.0 * cos_o[:, None] * normal - wi
+
+        # Next-event estimation towards the sun's disc, sampled uniformly.
+        if scene.sun is not None:
+            cos_a = 1.0 - rnd[0] * (1.0 - scene.sun.cos_radius)
+            to_sun = _around(np.broadcast_to(scene.sun.direction, p.shape).copy(), cos_a, 2 * np.pi * rnd[1])
+            cos_l = (normal * to_sun).sum(1)
+            facing = np.flatnonzero(cos_l > 0.0)
+            if facing.size:
+                blocked = _occluded(rs, start[facing], to_sun[facing])
+                counts["shadow"] += facing.size
+                lit = facing[~blocked]
+                idx = alive[lit]
+                base = w[idx] * cos_l[lit] * scene.sun.solid_angle
+                emit(idx, tables.sun_light, base / np.pi, keys=rho_key[lit])
+                lobe = np.maximum((mirror[lit] * to_sun[lit]).sum(1), 0.0) ** expo[lit]
+                emit(idx, tables.sun_light, base * ks[lit] * (expo[lit] + 2.0) / (2.0 * np.pi) * lobe)
+
+        # Scatter: the diffuse or the glossy lobe, in proportion to their albedos.
+        albedo = tables.mean_rho[m] + ks
+        p_glossy = np.divide(ks, albedo, out=np.zeros_like(ks), where=albedo > 0)
+        glossy = rnd[2] < p_glossy
+        cos_t = np.where(glossy, rnd[3] ** (1.0 / (expo + 1.0)), np.sqrt(1.0 - rnd[3]))
+        d_new = _around(np.where(glossy[:, None], mirror, normal), cos_t, 2 * np.pi * rnd[4])
+        cos_n = (normal * d_new).sum(1)
+        factor = np.where(glossy, ks * (expo + 2.0) / (expo + 1.0) * np.maximum(cos_n, 0.0)
+                          / np.maximum(p_glossy, 1e-300),
+                          1.0 / np.maximum(1.0 - p_glossy, 1e-300))
+        factor[(albedo <= 0.0) | (cos_n <= 0.0)] = 0.0
+        w[alive] *= factor
+        key[alive] = np.where(glossy, key[alive], rho_key)
+        bound[alive] *= np.where(glossy, 1.0, tables.max_rho[m])
+        if event + 1 >= ROULETTE_AFTER:
+            q = np.clip(w[alive] * bound[alive], 0.0, 1.0)
+            survive = rnd[5] < q
+            w[alive] = np.where(survive, w[alive] / np.maximum(q, 1e-300), 0.0)
+        keep = w[alive] > 0.0
+        alive = alive[keep]
+        o[alive] = start[keep]
+        d[alive] = d_new[keep]
+        if alive.size == 0:
+            break
+
+    total = weights.sum(axis=1)
+    if not contributions:
+        return np.zeros((n, tables.lights.shape[1]))
+    b, k, light, weight = (np.concatenate(c) for c in zip(*contributions))
+    # Sum the weights of equal (bundle, sequence, light) triples, then weigh
+    # each distinct sequence-and-light spectrum once.
+    combos, combo_of = np.unique(np.stack([k, light], 1), axis=0, return_inverse=True)
+    matrix = sparse.csr_matrix((weight, (b, combo_of.ravel())), shape=(n, len(combos)))
+    matrix.sum_duplicates()
+    spectra = _product_spectra(combos[:, 0], scene.reflectance, tables.radix, depth) * tables.lights[combos[:, 1]]
+    return np.asarray(matrix @ spectra) / total[:, None]

@@ -1,0 +1,50 @@
+# Paths, wildcards and targets shared by the stages.
+
+from pathlib import Path
+
+EYES_DIR = Path(config["eyes_dir"])
+SCENES_DIR = Path(config["scenes_dir"])
+
+# Retinal-plane images written for every eye and scene.
+IMAGES = [
+    "voronoi_map3.png",
+    "voronoi_map2.png",
+    "density_map3.png",
+    "channel_uv.png",
+    "channel_b.png",
+    "channel_g.png",
+    "catches.exr",
+]
+
+
+wildcard_constraints:
+    eye="[A-Za-z0-9_-]+",
+    scene="[A-Za-z0-9_-]+",
+
+
+def folder_files(folder):
+    """Every file of an eye's or a scene's folder: editing any of them reruns what uses it."""
+    return sorted(str(p) for p in Path(folder).rglob("*") if p.is_file())
+
+
+def eye_sources(wildcards):
+    return folder_files(EYES_DIR / wildcards.eye)
+
+
+def scene_sources(wildcards):
+    return folder_files(SCENES_DIR / wildcards.scene)
+
+
+def all_targets():
+    eyes = expand(
+        "results/eyes/{eye}/{name}",
+        eye=config["eyes"],
+        name=["remeshed.ply", "receptors.csv", "quality.json"],
+    )
+    views = expand(
+        "results/{eye}/{scene}/{name}",
+        eye=config["eyes"],
+        scene=config["scenes"],
+        name=["responses.csv", "irradiance.npz"] + IMAGES,
+    )
+    return eyes + views

@@ -1,0 +1,21 @@
+# Tracing: each receptor's acceptance cone through the scene, spectrally.
+
+
+rule trace:
+    input:
+        receptors="results/eyes/{eye}/receptors.csv",
+        scene=scene_sources,
+    output:
+        responses="results/{eye}/{scene}/responses.csv",
+        irradiance="results/{eye}/{scene}/irradiance.npz",
+    params:
+        scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
+        spectral=config["spectral"],
+        trace=config["trace"],
+    log:
+        "results/logs/trace/{eye}/{scene}.log",
+    threads: workflow.cores
+    resources:
+        mem_mb=4000,
+    script:
+        "../scripts/trace.py"
