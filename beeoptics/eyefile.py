@@ -9,6 +9,7 @@ meant to reproduce, each with its source. See ``beeoptics/schemas/eye.schema.yam
 
 from pathlib import Path
 
+import igl
 import numpy as np
 
 from beeoptics.errors import InputError
@@ -19,6 +20,9 @@ from beeoptics.validation import load_yaml, validate
 #: Longest eye accepted, in mm: the largest bee eyes are a few millimetres long
 #: (drone honey bees; Streinzer et al. 2013), so anything near a metre is in other units.
 MAX_EYE_SIZE_MM = 20.0
+#: Shortest eye accepted, in mm: even the smallest bees' eyes are a few tenths of a
+#: millimetre long, so a bee eye of a few thousandths is a mesh in metres.
+MIN_EYE_SIZE_MM = 0.1
 
 
 def load_eye(path):
@@ -47,17 +51,29 @@ def load_eye_mesh(eye):
     Raises
     ------
     InputError
-        If the mesh is not in millimetres at bee size, or its faces do not
-        face outward along the eye's local +z.
+        If the mesh is missing (naming the eye file's ``mesh``), unusable
+        (see :func:`~beeoptics.meshfile.read_mesh`), not one sheet (faces
+        meeting at a single vertex), not in millimetres at bee size, or its
+        faces do not face outward along the eye's local +z.
     """
+    if not Path(eye["mesh_path"]).is_file():
+        raise InputError(eye.get("path", eye["mesh_path"]), "mesh", f"no such mesh file {eye['mesh_path']}")
     vertices, faces = read_mesh(eye["mesh_path"])
+    pinched = ~np.asarray(igl.is_vertex_manifold(faces), bool).ravel()
+    if pinched.any():
+        raise InputError(
+            eye["mesh_path"],
+            "faces",
+            f"the mesh is not manifold: faces meet at a single vertex ({int(pinched.sum())} such "
+            f"vertices, the first at {vertices[np.argmax(pinched)].round(6).tolist()}); an eye is one sheet",
+        )
     size = np.ptp(vertices, axis=0).max()
-    if not 0.0 < size <= MAX_EYE_SIZE_MM:
+    if not MIN_EYE_SIZE_MM <= size <= MAX_EYE_SIZE_MM:
         raise InputError(
             eye["mesh_path"],
             "vertices",
             f"the eye is {size:g} units across; eye meshes are in millimetres, "
-            f"and no bee eye is larger than {MAX_EYE_SIZE_MM:g} mm",
+            f"and bee eyes are {MIN_EYE_SIZE_MM:g}–{MAX_EYE_SIZE_MM:g} mm long",
         )
     t = vertices[faces]
     normal_z = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]

@@ -21,7 +21,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 _NO_INDEX = np.array([], dtype=np.int64)
-#: A patch geodesic longer than this many chords went round its patch's edge.
+#: A patch geodesic longer than this many chords may have been cut off by its patch.
 _DETOUR = 1.01
 
 
@@ -47,7 +47,7 @@ def heat_distances(vertices, faces, sources):
     )
 
 
-def pair_distances(vertices, faces, points, point_faces, pairs, margin=None):
+def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, widen=True):
     """Exact geodesic distance between pairs of nearby points on a mesh.
 
     Each pair gets its own patch: the faces whose centroids lie within
@@ -55,9 +55,10 @@ def pair_distances(vertices, faces, points, point_faces, pairs, margin=None):
     inserted as vertices. The patches are disjoint, so one multi-source
     MMP run measures every pair at once. For points a few facets apart on a
     smooth eye, the geodesic strays from the segment by far less than a
-    triangle, so the patch holds it; a pair whose path still finds no way
-    through its patch comes out much longer than its chord, and is measured
-    again on a patch twice as wide.
+    triangle, so the patch holds it. A pair whose distance comes out much
+    longer than its chord is measured once more on a patch four times as
+    wide: its path may have been cut off by the patch's edge, or it may
+    truly bend round a notch in the rim of the mesh.
 
     Parameters
     ----------
@@ -73,6 +74,8 @@ def pair_distances(vertices, faces, points, point_faces, pairs, margin=None):
         Half-width of each patch; by default the median edge length, which
         holds the faces the segment crosses (their centroids lie within
         about two thirds of a triangle's height of it).
+    widen : bool
+        Whether to measure suspiciously long pairs again on wider patches.
 
     Returns
     -------
@@ -140,8 +143,8 @@ def pair_distances(vertices, faces, points, point_faces, pairs, margin=None):
     out[todo] = igl.exact_geodesic(patch_v, patch_f, src, _NO_INDEX, dst, _NO_INDEX)
     # On a smooth surface a geodesic this short exceeds its chord by ~1e-4.
     lost = todo[~(out[todo] < _DETOUR * length)]
-    if lost.size:
-        out[lost] = pair_distances(vertices, faces, points, point_faces, pairs[lost], 2.0 * margin)
+    if widen and lost.size:
+        out[lost] = pair_distances(vertices, faces, points, point_faces, pairs[lost], 4.0 * margin, widen=False)
     return out
 
 

@@ -32,11 +32,15 @@ def read_mesh(path, patterns=False):
     path = Path(path)
     if not path.is_file():
         raise InputError(path, "", "no such mesh file")
+    if path.stat().st_size == 0:
+        raise InputError(path, "faces", "the file is empty: the mesh has no faces")
     ms = pymeshlab.MeshSet()
     try:
         ms.load_new_mesh(str(path))
     except pymeshlab.PyMeshLabException as e:
-        raise InputError(path, "", f"cannot read mesh: {e}") from None
+        # pymeshlab's message spans several lines and repeats the path; keep one line.
+        detail = " ".join(str(e).replace(str(path), path.name).split())
+        raise InputError(path, "", f"cannot read mesh: {detail}") from None
     mesh = ms.current_mesh()
     if mesh.face_number() == 0:
         raise InputError(path, "faces", "the mesh has no faces")

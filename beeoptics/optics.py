@@ -78,6 +78,9 @@ def snyder_delta_rho(facet_diameter_um, wavelength_nm=SNYDER_WAVELENGTH_NM,
 def delta_rho(facet_diameter_um, model, fixed_deg=DELTA_RHO_WORKER_DEG,
               wavelength_nm=SNYDER_WAVELENGTH_NM, rhabdom_deg=RHABDOM_ACCEPTANCE_DEG):
     """Per-receptor acceptance angle, degrees, by ``model`` "fixed" or "snyder"."""
+    for name, value in (("fixed_deg", fixed_deg), ("wavelength_nm", wavelength_nm), ("rhabdom_deg", rhabdom_deg)):
+        if not np.isfinite(value) or value <= 0:
+            raise ValueError(f"delta_rho: {name} must be positive, not {value!r}")
     if model == "fixed":
         return np.full(np.shape(facet_diameter_um), float(fixed_deg))
     if model == "snyder":
@@ -122,6 +125,8 @@ def cone_samples(axes, delta_rho_deg, samples, seed, first=0):
         sin θ/θ, which turns the tangent-plane density into the density on
         the sphere; a receptor's response is the weighted mean radiance.
     """
+    if int(samples) != samples or samples < 1:
+        raise ValueError(f"cone_samples: samples must be a positive whole number, not {samples!r}")
     axes = np.asarray(axes, float)
     n = len(axes)
     base = qmc.Halton(2, scramble=True, seed=np.random.default_rng(seed)).random(samples)

@@ -20,6 +20,7 @@ Columns (``results/eyes/{eye}/receptors.csv``):
 
 import numpy as np
 
+from beeoptics.errors import InputError
 from beeoptics.headframe import mirror
 from beeoptics.table import read_table, write_table
 
@@ -75,6 +76,9 @@ def write_receptors(path, table):
 def read_receptors(path):
     """Read a receptor table, checking its columns; positions (n,3), axes (n,3) and the rest."""
     t = read_table(path, numeric=[c for c in COLUMNS if c != "side"], text=["side"])
+    drho = np.asarray(t["delta_rho_deg"], float)
+    if not (np.isfinite(drho) & (drho > 0)).all():
+        raise InputError(path, "delta_rho_deg", "acceptance angles must be positive")
     t["position"] = np.column_stack([t["x"], t["y"], t["z"]])
     t["axis"] = np.column_stack([t["ax"], t["ay"], t["az"]])
     return t

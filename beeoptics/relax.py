@@ -16,10 +16,10 @@ Particles move as masses under FIRE (Bitzek et al. 2006), damped dynamics
 whose velocity is steered towards the force and zeroed whenever it runs
 against it, and after every step are put back on the mesh at the closest
 point, so they never leave it. Spring lengths are measured as chords while
-the lattice forms. Once it is still, the loaded springs are measured again
-as exact geodesics over the mesh (libigl) and the system is run to rest on
+the lattice forms. Once it is still, the springs are measured again as
+exact geodesics over the mesh (libigl), and the system is run to rest on
 those lengths, until no particle moves by more than the tolerance in a
-step.
+step; the Delaunay neighbours of the final lattice are measured the same way.
 
 References
 ----------
@@ -77,8 +77,9 @@ def _lengths(points, pairs):
     return np.linalg.norm(points[pairs[:, 1]] - points[pairs[:, 0]], axis=1)
 
 
-def _keys(pairs, n):
-    return pairs[:, 0].astype(np.int64) * n + pairs[:, 1]
+def _geodesic_ratio(query, points, faces, pairs):
+    """Geodesic over straight length of each pair, measured exactly on the mesh."""
+    return pair_distances(query.vertices, query.faces, points, faces, pairs) / _lengths(points, pairs)
 
 
 def _near_pairs(points, target):
@@ -150,12 +151,15 @@ def relax(
     for iteration in range(max_iterations):
         if iteration in snapshot_at:
             snapshots.append((iteration, points.copy()))
-        # Rebuild the pair list before any particle can have crossed its skin.
-        if ratio is None and drift > 0.5 * (SKIN - 1.0) * rest_min:
+        # Rebuild the pair list before any particle can have crossed its skin;
+        # once springs are measured along the surface, measure the new ones too.
+        if drift > 0.5 * (SKIN - 1.0) * rest_min:
             target = query.interpolate(diameters, points, faces)
             springs, rest = _near_pairs(points, fill * target)
             rest_min = SQUEEZE * fill * target.min()
             built_at, drift = points.copy(), 0.0
+            if ratio is not None:
+                ratio = _geodesic_ratio(query, points, faces, springs)
         delta = points[springs[:, 1]] - points[springs[:, 0]]
         chord = np.sqrt((delta**2).sum(1))
         lengths = chord if ratio is None else chord * ratio
@@ -202,27 +206,18 @@ def relax(
         if largest < tolerance:
             if ratio is not None:
                 break
-            # Still under chords: from here on the springs that bear load are
-            # measured along the surface, and so are the Delaunay neighbours.
-            edges, boundary = neighbour_edges(
-                query.interpolate(uv, points, faces), points, MAX_EDGE * fill * target
-            )
-            loaded = lengths < rest
-            springs, rest = springs[loaded], rest[loaded]
-            n = len(points)
-            keys = np.union1d(_keys(springs, n), _keys(edges, n))
-            geodesic = pair_distances(
-                query.vertices, query.faces, points, faces, np.stack(np.divmod(keys, n), 1)
-            )
-            ratio = geodesic[np.searchsorted(keys, _keys(springs, n))] / _lengths(points, springs)
-            edge_ratio = geodesic[np.searchsorted(keys, _keys(edges, n))] / _lengths(points, edges)
+            # Still under chords: from here on springs are measured along the surface.
+            ratio = _geodesic_ratio(query, points, faces, springs)
             velocity[:] = 0.0
             dt, mix, calm = 1.0, FIRE_MIX, 0
     else:
-        raise RuntimeError(f"facet lattice still moving after {max_iterations} iterations")
-    # The lattice moved by a few tolerances since the geodesics were measured;
-    # their ratio to the chords has not changed measurably.
-    geodesic = _lengths(points, edges) * edge_ratio
+        raise RuntimeError(
+            f"facet lattice still moving after {max_iterations} iterations: a facet moved "
+            f"{largest * 1e3:.3g} µm in the last step, over the tolerance of {tolerance * 1e3:.3g} µm; "
+            "a tolerance below about 0.05 µm can chase rearrangements of the lattice for long"
+        )
+    edges, boundary = neighbour_edges(query.interpolate(uv, points, faces), points, MAX_EDGE * fill * target)
+    geodesic = pair_distances(query.vertices, query.faces, points, faces, edges)
     snapshots.append((iteration + 1, points.copy()))
     return {
         "points": points,

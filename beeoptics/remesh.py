@@ -7,7 +7,7 @@ modeller placed and rounds the surface between them, then remeshed
 isotropically (Hoppe's explicit remeshing, as in VCG/MeshLab) to a target
 edge length well below the facet size, reprojecting onto the refined
 surface; the boundary is kept, since it is the rim of the eye and sets its
-field of view. Vertex normals are finally smoothed over a few rings, so
+field of view, and slivers left along it (T-vertices) are collapsed. Vertex normals are finally smoothed over a few rings, so
 that the normal field the receptor axes are read from varies at the scale
 of the eye's curvature and not of the triangles.
 
@@ -57,6 +57,10 @@ def remesh(vertices, faces, edge_length, *, subdivisions=2, iterations=8, normal
         featuredeg=180.0,
         maxsurfdist=pymeshlab.PureValue(edge_length / 10.0),
     )
+    # A rim vertex can end up on its neighbour's edge, leaving a sliver whose
+    # cotangent weights, and with them the heat geodesics, are infinite.
+    ms.meshing_remove_t_vertices(method="Edge Collapse", threshold=40, repeat=True)
+    ms.meshing_remove_unreferenced_vertices()
     m = ms.current_mesh()
     v = m.vertex_matrix().astype(np.float64)
     f = m.face_matrix().astype(np.int64)

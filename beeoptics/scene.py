@@ -75,6 +75,8 @@ def _primitive(spec):
 def _object(spec, base, names, source, index):
     field = f"objects.{index}"
     if "mesh" in spec:
+        if not (base / spec["mesh"]).is_file():
+            raise InputError(source, f"{field}.mesh", f"no such mesh file {base / spec['mesh']}")
         v, f, colours, uv = read_mesh(base / spec["mesh"], patterns=True)
     else:
         (v, f), colours, uv = _primitive(spec["primitive"]), None, None
@@ -107,6 +109,13 @@ def _object(spec, base, names, source, index):
     return out
 
 
+def _bee_camera(position, head):
+    """The human view a scene gets by default: from the bee's head, looking where it looks."""
+    at = np.asarray(position, float) + head[:, 0]
+    return {"position_m": list(position), "look_at_m": at.tolist(), "vertical_fov_deg": 60.0,
+            "width_px": 320, "height_px": 240}
+
+
 def load_scene(path, wavelengths, light=None):
     """Read and check a scene file.
 
@@ -135,9 +144,14 @@ def load_scene(path, wavelengths, light=None):
         if "radiance" not in lt:
             raise InputError(path, "light.radiance", "a uniform sky needs a radiance spectrum")
         radiance = spectrum(lt["radiance"], wl, base, path, "light.radiance")
+        if not np.isfinite(radiance).all() or radiance.min() < 0.0:
+            raise InputError(path, "light.radiance", "a sky's radiance must be finite and non-negative")
         if "luminance_cd_m2" in lt:
             radiance = radiance * lt["luminance_cd_m2"] / skies.luminance(wl, radiance)
         sky = skies.uniform_sky(radiance, lt["hemisphere"])
+    if lt["sky"] == "preetham" and lt["sun_elevation_deg"] <= 0.0:
+        raise InputError(path, "light.sun_elevation_deg",
+                         "the Preetham sky is a daylight model: it needs the sun above the horizon")
     sun_disc = None
     if lt["sun"] or lt["sky"] == "preetham":
         sun_disc = skies.sun(wl, lt["sun_elevation_deg"], lt["sun_azimuth_deg"], lt["turbidity"])
@@ -145,24 +159,32 @@ def load_scene(path, wavelengths, light=None):
         sky = skies.preetham_sky(wl, sun_disc.direction, lt["turbidity"])
     if not lt["sun"]:
         sun_disc = None
-    emitting = any(m["emission"].max() > 0 for m in mats)
+    # An emitting material lights the scene only if some object is made of it.
+    used = set()
+    for o in objects:
+        for ids in (o["face_material"], o["texture"]):
+            if ids is not None:
+                used.update(np.unique(ids).tolist())
+    emitting = any(mats[i]["emission"].max() > 0 for i in used)
     lit = (sky is not None and sky.basis.max() > 0) or (sun_disc is not None and sun_disc.radiance.max() > 0)
     if not (lit or emitting):
-        raise InputError(path, "light", "the scene has no light: no sky, no sun above the horizon, no emitting material")
+        raise InputError(path, "light", "the scene has no light: no sky, no sun above the horizon, "
+                         "no object of an emitting material")
 
     e = data["eye"]
     head = (Rotation.from_euler("z", e["heading_deg"], degrees=True)
             * Rotation.from_euler("y", -e["pitch_deg"], degrees=True)).as_matrix()
-    every = np.vstack([o["vertices"] for o in objects])
+    every = np.vstack([o["vertices"] for o in objects] + [np.zeros((1, 3))])
+    n_wl = len(wl)
     return Scene(
         name=data["name"], path=path, objects=objects, material_names=names,
-        reflectance=np.stack([m["reflectance"] for m in mats]),
-        emission=np.stack([m["emission"] for m in mats]),
+        reflectance=np.array([m["reflectance"] for m in mats]).reshape(-1, n_wl),
+        emission=np.array([m["emission"] for m in mats]).reshape(-1, n_wl),
         specular=np.array([m["specular"] for m in mats]),
         exponent=np.array([m["exponent"] for m in mats]),
         sky=sky, sun=sun_disc,
         eye_position=np.asarray(e["position_m"], float), eye_rotation=head,
-        camera=data.get("camera"),
+        camera=data.get("camera") or _bee_camera(data["eye"]["position_m"], head),
         extent=float(np.linalg.norm(np.ptp(every, axis=0))),
     )
 

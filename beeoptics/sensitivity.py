@@ -77,10 +77,29 @@ def receptor_sensitivities(wavelengths, lambda_max=LAMBDA_MAX_APIS):
 
 
 def measured_sensitivities(path, wavelengths):
-    """Receptor curves from a CSV in pavo's layout (columns UV, B, G in that order), summing to one."""
-    names, _, values = read_pavo_csv(path, wavelengths)
+    """Receptor curves from a CSV in pavo's layout (columns UV, B, G in that order), summing to one.
+
+    Raises
+    ------
+    InputError
+        If the file does not hold three receptor columns, a column is zero
+        everywhere, or the columns' peaks are not in the order UV, B, G;
+        and as :func:`~beeoptics.spectra.read_pavo_csv` does.
+    """
+    names, wl, values = read_pavo_csv(path, wavelengths)
     if len(names) != 3:
-        raise InputError(path, "", f"expected three receptor columns (UV, B, G), found {len(names)}")
+        raise InputError(path, ", ".join(names), f"expected three receptor columns (UV, B, G), found {len(names)}")
+    for j, name in enumerate(names):
+        if not values[:, j].max() > 0.0:
+            raise InputError(path, name, "is zero everywhere on the grid; a receptor must be sensitive somewhere")
+    peaks = wl[np.argmax(values, axis=0)]
+    for j in (1, 2):
+        if peaks[j] <= peaks[j - 1]:
+            raise InputError(
+                path, names[j],
+                f"peaks at {peaks[j]:g} nm, not beyond {names[j - 1]} ({peaks[j - 1]:g} nm); "
+                "the columns must be UV, B, G, shortest peak first",
+            )
     return values / values.sum(axis=0)
 
 

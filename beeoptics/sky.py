@@ -207,3 +207,25 @@ def luminance(wavelengths, radiance):
     ybar = np.zeros_like(wl)
     ybar[inside] = np.interp(wl[inside], cmf.wavelengths, cmf.values[:, 1])
     return KM * np.trapezoid(ybar * radiance, wl)
+
+
+def horizontal_irradiance(sky, sun_disc, samples=64):
+    """Spectral irradiance on an unshaded horizontal surface from the sky and sun, W m⁻² nm⁻¹.
+
+    The sky is integrated over the upper hemisphere by cosine-weighted
+    midpoint quadrature on a ``samples`` × ``samples`` grid (E = π × the
+    mean radiance over a cosine-distributed set); the sun adds its radiance
+    times its disc's solid angle times the cosine of its zenith angle.
+    """
+    n_wl = (sky.basis if sky is not None else sun_disc.radiance[None]).shape[1]
+    total = np.zeros(n_wl)
+    if sky is not None:
+        u = (np.arange(samples) + 0.5) / samples
+        u1, u2 = np.meshgrid(u, u, indexing="ij")
+        sin_t = np.sqrt(u1.ravel())
+        phi = 2.0 * np.pi * u2.ravel()
+        d = np.column_stack([sin_t * np.cos(phi), sin_t * np.sin(phi), np.sqrt(1.0 - u1.ravel())])
+        total += np.pi * sky_coefficients(sky, d).mean(0) @ sky.basis
+    if sun_disc is not None and sun_disc.direction[2] > 0.0:
+        total += sun_disc.radiance * sun_disc.solid_angle * sun_disc.direction[2]
+    return total

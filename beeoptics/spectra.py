@@ -99,15 +99,19 @@ def read_pavo_csv(path, onto=None):
     if len(names) < 2:
         raise InputError(path, "", "expected a wavelength column and at least one spectrum")
     wl_name, samples = names[0], names[1:]
-    wl = np.asarray(table[wl_name], float)
-    if wl.dtype.kind != "f" or np.any(np.diff(wl) <= 0):
+    wl = _numeric(table[wl_name], path, wl_name)
+    if len(wl) < 2:
+        raise InputError(path, wl_name, f"{len(wl)} wavelength(s); a spectrum needs at least two")
+    if not np.isfinite(wl).all() or np.any(np.diff(wl) <= 0):
         raise InputError(path, wl_name, "the first column must hold increasing wavelengths in nm")
     values = np.column_stack([_numeric(table[s], path, s) for s in samples])
     for j, s in enumerate(samples):
-        if np.isnan(values[:, j]).any():
-            raise InputError(path, s, "holds NaN")
+        bad = ~np.isfinite(values[:, j])
+        if bad.any():
+            raise InputError(path, s, f"holds NaN or infinity (first at {wl[bad][0]:g} nm)")
         if (values[:, j] < 0).any():
-            raise InputError(path, s, "holds negative values")
+            k = np.argmin(values[:, j])
+            raise InputError(path, s, f"holds negative values (down to {values[k, j]:g} at {wl[k]:g} nm)")
     if values.max() > 1.0:
         values = values / 100.0
     if onto is not None:

@@ -14,7 +14,7 @@ import colour
 import igl
 import numpy as np
 
-from beeoptics import optics
+from beeoptics import camera, figures, optics
 from beeoptics.catches import acceptance_solid_angle, quantum_catches
 from beeoptics.imagefile import write_exr, write_png
 from beeoptics.receptors import read_receptors
@@ -74,7 +74,7 @@ def remesh_eye(eye_file, remeshed_ply, edge_fraction=1 / 3, subdivisions=2):
 
 
 def place_facets(eye_file, remeshed_ply, receptors_csv, quality_json, relaxation_npz,
-                 tolerance_um=0.01, delta_rho=None, progress=None):
+                 tolerance_um=0.05, delta_rho=None, progress=None):
     """Stage 2: place the facets on the remeshed eye and describe every receptor.
 
     Projects the hexagonal grid (count rule), relaxes it, reads the receptor
@@ -157,6 +157,22 @@ def place_facets(eye_file, remeshed_ply, receptors_csv, quality_json, relaxation
         )
 
 
+def eye_figures(eye_file, relaxation_npz, outputs):
+    """Stage 2b: Collins' Fig. 7 for one eye, and maps of its Δφ and facet diameters.
+
+    ``outputs`` maps ``relaxation``, ``delta_phi`` and ``facet_diameter`` to PNG paths.
+    """
+    eye = load_eye(eye_file)
+    data = np.load(relaxation_npz)
+    rest, rim = data["snapshots"][-1], data["boundary_xy"]
+    figures.relaxation(data["snapshots"], data["iterations"], data["snapshot_diameter_um"], rim,
+                       outputs["relaxation"], eye["name"])
+    figures.eye_map(rest, data["delta_phi_deg"], rim, outputs["delta_phi"],
+                    "Δφ, degrees", f"{eye['name']}: interommatidial angle Δφ")
+    figures.eye_map(rest, data["facet_diameter_um"], rim, outputs["facet_diameter"],
+                    "facet diameter, µm", f"{eye['name']}: facet diameter")
+
+
 def wavelengths(spectral):
     """The spectral grid a config's ``spectral`` section describes."""
     return grid(spectral["start_nm"], spectral["end_nm"], spectral["step_nm"])
@@ -199,21 +215,35 @@ def trace_scene(receptors_csv, scene_file, responses_csv, irradiance_npz, *, spe
     return counts
 
 
-def human_colour(wavelengths_nm, radiance):
-    """CIE 1931 XYZ of spectral radiances (n, n_wl) on the grid; below 360 nm counts nothing."""
-    cmf = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
-    wl = np.asarray(wavelengths_nm, float)
-    inside = wl >= cmf.wavelengths[0]
-    bars = np.zeros((len(wl), 3))
-    for k in range(3):
-        bars[inside, k] = np.interp(wl[inside], cmf.wavelengths, cmf.values[:, k])
-    return radiance @ bars * float(wl[1] - wl[0])
-
-
 def _display(linear, scale):
     """Linear values to sRGB-encoded display values in [0, 1], NaN (outside the eyes) black."""
     v = np.nan_to_num(np.asarray(linear) / scale, nan=0.0)
     return colour.cctf_encoding(np.clip(v, 0.0, 1.0), function="sRGB")
+
+
+def human_view(scene_file, png, exr, *, spectral, samples_per_pixel, depth, seed, batch_rays):
+    """Stage 3b: what a person sees of a scene through its pinhole camera.
+
+    Traced like the receptors, then mapped through the CIE 1931 observer to
+    sRGB (PNG, the 99th percentile of luminance as white) and written as
+    linear XYZ (EXR, channels ``X``, ``Y``, ``Z``).
+    """
+    wl = wavelengths(spectral)
+    scene = load_scene(scene_file, wl)
+    origin, dirs = camera.pinhole_rays(scene.camera, samples_per_pixel, seed)
+    rs = raycasting_scene(scene)
+    n = len(dirs)
+    chunk = max(1, batch_rays // samples_per_pixel)
+    xyz = np.empty((n, 3))
+    weights = np.ones((min(chunk, n), samples_per_pixel))
+    for lo in range(0, n, chunk):
+        hi = min(n, lo + chunk)
+        radiance = trace_paths(scene, np.broadcast_to(origin, (hi - lo, 3)), dirs[lo:hi], weights[: hi - lo],
+                               depth=depth, seed=seed, first_stream=lo, rs=rs)
+        xyz[lo:hi] = camera.tristimulus(wl, radiance)
+    shape = (scene.camera["height_px"], scene.camera["width_px"], 3)
+    write_png(png, camera.srgb(xyz, np.percentile(xyz[:, 1], 99.0)).reshape(shape))
+    write_exr(exr, xyz.reshape(shape), ("X", "Y", "Z"))
 
 
 def map3(uv, b, g):
@@ -238,7 +268,7 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
     write_png(outputs["density_map3"], _display(dens, np.nanpercentile(dens, 99.5)))
     for k, name in enumerate(("channel_uv", "channel_b", "channel_g")):
         write_png(outputs[name], _display(voronoi(can, xy, table["side"], q[:, k]), scale)[..., 0])
-    xyz = human_colour(data["wavelength_nm"], data["radiance"])
+    xyz = camera.tristimulus(data["wavelength_nm"], data["radiance"])
     srgb = colour.XYZ_to_sRGB(xyz / np.percentile(xyz[:, 1], 99.5), apply_cctf_encoding=False)
     write_png(outputs["voronoi_map2"], _display(voronoi(can, xy, table["side"], np.clip(srgb, 0, None)), 1.0))
     write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table["side"], q), nan=0.0), RECEPTORS)

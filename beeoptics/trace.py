@@ -81,7 +81,7 @@ class _Tables:
         self.offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
         self.face_material = np.concatenate(
             [o["face_material"] if o["face_material"] is not None else np.full(len(o["faces"]), -1, np.int32)
-             for o in scene.objects])
+             for o in scene.objects] + [np.zeros(0, np.int32)])
         self.textured = [i for i, o in enumerate(scene.objects) if o["texture"] is not None]
         self.objects = scene.objects
         n_sky = 0 if scene.sky is None else len(scene.sky.basis)

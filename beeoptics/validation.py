@@ -2,12 +2,17 @@
 
 A schema's ``default`` values are filled in while it is checked, and the
 first violation is raised as an :class:`~beeoptics.errors.InputError`
-naming the file and the dotted path of the offending field.
+naming the file and the dotted path of the offending field. The workflow's
+configuration is checked the same way against its own schema
+(:func:`validate_config`).
 """
 
+import copy
+import difflib
+import math
 import re
 from functools import cache
-from importlib import resources
+from pathlib import Path
 
 import yaml
 from jsonschema import Draft202012Validator, validators
@@ -21,8 +26,9 @@ def _with_defaults(cls):
     def properties(validator, props, instance, schema):
         if isinstance(instance, dict):
             for name, sub in props.items():
-                if "default" in sub:
-                    instance.setdefault(name, sub["default"])
+                if "default" in sub and name not in instance:
+                    # A copy: a mutable default ({} or []) must not be shared between files.
+                    instance[name] = copy.deepcopy(sub["default"])
         yield from check_properties(validator, props, instance, schema)
 
     return validators.extend(cls, {"properties": properties})
@@ -30,18 +36,61 @@ def _with_defaults(cls):
 
 @cache
 def _validator(schema_name):
-    text = resources.files("beeoptics").joinpath("schemas", f"{schema_name}.schema.yaml").read_text()
+    return _schema_validator(Path(__file__).parent / "schemas" / f"{schema_name}.schema.yaml")
+
+
+@cache
+def _schema_validator(schema_path):
+    text = Path(schema_path).read_text()
     return _with_defaults(Draft202012Validator)(yaml.safe_load(text))
 
 
-def _field(error):
+def _field_and_message(error):
+    """The dotted path of the offending field, and what is wrong with it."""
     path = [str(p) for p in error.absolute_path]
-    if error.validator == "additionalProperties":
-        allowed = set(error.schema.get("properties", {}))
-        path.append(sorted(set(error.instance) - allowed)[0])
+    message = error.message
+    extra = []
+    if error.validator == "additionalProperties" and error.validator_value is False:
+        allowed = sorted(error.schema.get("properties", {}))
+        extra = sorted(map(str, set(error.instance) - set(allowed)))
+    if extra:
+        key = extra[0]
+        path.append(key)
+        close = difflib.get_close_matches(key, allowed, n=1)
+        message = f"unknown key {key!r}; " + (
+            f"did you mean {close[0]!r}?" if close else f"allowed here: {', '.join(allowed)}"
+        )
     elif error.validator == "required":
         path.append(next(k for k in error.validator_value if k not in error.instance))
-    return ".".join(path)
+    return ".".join(path), message
+
+
+def _non_finite(data, path=()):
+    """The dotted path of the first NaN or infinite number in parsed YAML, or None.
+
+    JSON Schema's bounds do not catch NaN (every comparison with it is
+    false), and YAML reads ``.nan`` and ``.inf`` as numbers.
+    """
+    if isinstance(data, float) and not math.isfinite(data):
+        return ".".join(path)
+    items = data.items() if isinstance(data, dict) else enumerate(data) if isinstance(data, list) else ()
+    for key, value in items:
+        found = _non_finite(value, (*path, str(key)))
+        if found is not None:
+            return found
+    return None
+
+
+def _check(data, validator, path):
+    if not isinstance(data, dict):
+        raise InputError(path, "", "expected a mapping of keys to values")
+    errors = sorted(validator.iter_errors(data), key=lambda e: [(isinstance(k, str), k) for k in e.absolute_path])
+    if errors:
+        raise InputError(path, *_field_and_message(errors[0]))
+    field = _non_finite(data)
+    if field is not None:
+        raise InputError(path, field, "must be a finite number, not NaN or infinity")
+    return data
 
 
 def validate(data, schema_name, path):
@@ -60,12 +109,48 @@ def validate(data, schema_name, path):
     ------
     InputError
     """
-    if not isinstance(data, dict):
-        raise InputError(path, "", "expected a mapping of keys to values")
-    errors = sorted(_validator(schema_name).iter_errors(data), key=lambda e: list(e.absolute_path))
-    if errors:
-        raise InputError(path, _field(errors[0]), errors[0].message)
-    return data
+    return _check(data, _validator(schema_name), path)
+
+
+#: Where each list of classes in the config finds its folders, and the file each folder holds.
+CONFIG_FOLDERS = {"eyes": ("eyes_dir", "eye.yaml"), "scenes": ("scenes_dir", "scene.yaml")}
+
+
+def validate_config(config, schema_path, source="config", folders=True):
+    """Check the workflow's configuration, filling in defaults in place.
+
+    The same check as the packaged schemas get: the first violation of
+    ``schema_path`` (``workflow/schemas/config.schema.yaml``) as one line
+    naming ``source`` and the dotted key, with a suggestion for a misspelt
+    key; then, with ``folders``, that every eye class and scene named has
+    its folder, so that a typo stops the run before any job starts.
+    Relative folders are taken from the working directory, as the rules take them.
+
+    Parameters
+    ----------
+    config : dict
+        The merged configuration (Snakemake's ``config``).
+    schema_path : str or Path
+    source : str or Path
+        The config file(s), for the error message.
+
+    Raises
+    ------
+    InputError
+    """
+    _check(config, _schema_validator(Path(schema_path)), source)
+    if folders:
+        for key, (dir_key, filename) in CONFIG_FOLDERS.items():
+            root = Path(config[dir_key])
+            for i, name in enumerate(config[key]):
+                if not (root / name / filename).is_file():
+                    found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
+                    raise InputError(
+                        source, f"{key}.{i}",
+                        f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
+                        f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
+                    )
+    return config
 
 
 class _Loader(yaml.SafeLoader):

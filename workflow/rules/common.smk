@@ -41,10 +41,16 @@ def all_targets():
         eye=config["eyes"],
         name=["remeshed.ply", "receptors.csv", "quality.json"],
     )
+    figures = expand(
+        "results/eyes/{eye}/figures/{name}.png",
+        eye=config["eyes"],
+        name=["relaxation", "delta_phi", "facet_diameter"],
+    )
     views = expand(
         "results/{eye}/{scene}/{name}",
         eye=config["eyes"],
         scene=config["scenes"],
         name=["responses.csv", "irradiance.npz"] + IMAGES,
     )
-    return eyes + views
+    humans = expand("results/scenes/{scene}/human.{ext}", scene=config["scenes"], ext=["png", "exr"])
+    return eyes + figures + views + humans

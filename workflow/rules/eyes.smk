@@ -36,3 +36,19 @@ rule facets:
         mem_mb=2000,
     script:
         "../scripts/facets.py"
+
+
+rule eye_figures:
+    input:
+        sources=eye_sources,
+        relaxation="results/eyes/{eye}/relaxation.npz",
+    output:
+        relaxation=report("results/eyes/{eye}/figures/relaxation.png", caption="../report/relaxation.rst", category="Eyes", subcategory="{eye}"),
+        delta_phi=report("results/eyes/{eye}/figures/delta_phi.png", caption="../report/delta_phi.rst", category="Eyes", subcategory="{eye}"),
+        facet_diameter=report("results/eyes/{eye}/figures/facet_diameter.png", caption="../report/facet_diameter.rst", category="Eyes", subcategory="{eye}"),
+    params:
+        eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
+    log:
+        "results/logs/eye_figures/{eye}.log",
+    script:
+        "../scripts/eye_figures.py"

@@ -19,3 +19,23 @@ rule trace:
         mem_mb=4000,
     script:
         "../scripts/trace.py"
+
+
+rule human_view:
+    input:
+        scene_sources,
+    output:
+        png=report("results/scenes/{scene}/human.png", caption="../report/human.rst", category="Scenes", subcategory="{scene}"),
+        exr="results/scenes/{scene}/human.exr",
+    params:
+        scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
+        spectral=config["spectral"],
+        trace=config["trace"],
+        samples_per_pixel=config["human_view"]["samples_per_pixel"],
+    log:
+        "results/logs/human_view/{scene}.log",
+    threads: workflow.cores
+    resources:
+        mem_mb=4000,
+    script:
+        "../scripts/human_view.py"

@@ -1,0 +1,50 @@
+"""Benchmark: how long the facet lattice of one eye takes to relax, and the memory it needs.
+
+    python benchmarks/relax.py --eye drone
+
+Remeshes the eye (not timed), then places and relaxes its facets. The last
+line printed is one JSON object: eye, facets (per eye), seconds (the
+relaxation alone), iterations, stage_seconds (the whole facet stage, with
+grid projection, facet map, receptor table and quality figures) and
+peak_memory_mb (the process's peak resident memory).
+"""
+
+import argparse
+import json
+import resource
+import tempfile
+import time
+from pathlib import Path
+
+from beeoptics import stages
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--eye", default="worker", help="eye class, a folder of --eyes-dir (default: worker)")
+    parser.add_argument("--eyes-dir", default=Path(__file__).resolve().parents[1] / "eyes", type=Path)
+    parser.add_argument("--tolerance-um", type=float, default=0.05, help="relaxation tolerance, µm (default 0.05)")
+    args = parser.parse_args()
+    eye = args.eyes_dir / args.eye / "eye.yaml"
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp)
+        stages.remesh_eye(eye, out / "remeshed.ply")
+        start = time.perf_counter()
+        stages.place_facets(eye, out / "remeshed.ply", out / "receptors.csv", out / "quality.json",
+                            out / "relaxation.npz", tolerance_um=args.tolerance_um)
+        stage_seconds = time.perf_counter() - start
+        quality = json.loads((out / "quality.json").read_text())
+    print(f"{args.eye}: {quality['facets_per_eye']} facets relaxed in {quality['relaxation']['seconds']:.1f} s "
+          f"({quality['relaxation']['iterations']} iterations)")
+    print(json.dumps({
+        "eye": args.eye,
+        "facets": quality["facets_per_eye"],
+        "seconds": round(quality["relaxation"]["seconds"], 2),
+        "iterations": quality["relaxation"]["iterations"],
+        "stage_seconds": round(stage_seconds, 2),
+        "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+    }))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,105 @@
+"""Benchmark: how fast an eye pair is traced through a scene, against bare Embree.
+
+    python benchmarks/trace.py --eye worker --scene meadow --spp 256 --depth 3
+
+Uses results/eyes/<eye>/receptors.csv, building the eye first (in a child
+process, so that its memory is not counted) when it is missing. Then traces
+both eyes on the full spectral grid, exactly as the workflow's trace stage
+does, and casts the same number of rays as the trace cast, in batches of the
+same size, through Open3D's ``RaycastingScene.cast_rays`` alone.
+
+The last line printed is one JSON object: eye, scene, spp, depth,
+receptors, rays (every ray the trace cast: primary, bounce and shadow),
+wall_s (the trace stage's wall time), pipeline_rays_per_s (rays / wall_s),
+bare_rays_per_s (bare ``cast_rays`` throughput on the same scene), ratio
+(their quotient) and peak_memory_mb (the process's peak resident memory).
+"""
+
+import argparse
+import json
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import open3d as o3d
+
+from beeoptics import optics, stages
+from beeoptics.receptors import read_receptors
+from beeoptics.scene import load_scene, raycasting_scene, receptors_in_world
+
+ROOT = Path(__file__).resolve().parents[1]
+BATCH_RAYS = 1 << 20
+
+
+def build_eye(eye, receptors_csv):
+    """Build an eye's receptor table in a child process, as the workflow would."""
+    code = (
+        "import sys; from pathlib import Path; from beeoptics import stages\n"
+        "eye, out = Path(sys.argv[1]), Path(sys.argv[2]); d = out.parent\n"
+        "stages.remesh_eye(eye, d / 'remeshed.ply')\n"
+        "stages.place_facets(eye, d / 'remeshed.ply', out, d / 'quality.json', d / 'relaxation.npz')\n"
+    )
+    receptors_csv.parent.mkdir(parents=True, exist_ok=True)
+    subprocess.run([sys.executable, "-c", code, str(eye), str(receptors_csv)], check=True)
+
+
+def bare_rays_per_s(scene, origins, axes, drho, rays, seed):
+    """Throughput of ``cast_rays`` alone on receptor-cone rays, batched as the trace batches."""
+    rs = raycasting_scene(scene)
+    per = max(1, BATCH_RAYS // 256)
+    dirs, _ = optics.cone_samples(axes[:per], drho[:per], 256, seed)
+    batch = np.hstack([np.repeat(origins[:per], 256, axis=0), dirs.reshape(-1, 3)]).astype(np.float32)
+    batch = o3d.core.Tensor(batch)
+    rs.cast_rays(batch)  # warm up Embree's acceleration structure
+    start, cast = time.perf_counter(), 0
+    while cast < rays:
+        rs.cast_rays(batch)["t_hit"].numpy()
+        cast += len(batch)
+    return cast / (time.perf_counter() - start)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--eye", default="worker", help="eye class (default: worker)")
+    parser.add_argument("--scene", default="meadow", help="scene (default: meadow)")
+    parser.add_argument("--spp", type=int, default=256, help="samples per receptor (default: 256)")
+    parser.add_argument("--depth", type=int, default=3, help="scattering events per path (default: 3)")
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+    receptors_csv = ROOT / "results" / "eyes" / args.eye / "receptors.csv"
+    if not receptors_csv.exists():
+        build_eye(ROOT / "eyes" / args.eye / "eye.yaml", receptors_csv)
+    scene_file = ROOT / "scenes" / args.scene / "scene.yaml"
+    spectral = {"start_nm": 300, "end_nm": 700, "step_nm": 5}
+
+    with tempfile.TemporaryDirectory() as tmp:
+        start = time.perf_counter()
+        counts = stages.trace_scene(receptors_csv, scene_file, Path(tmp) / "responses.csv",
+                                    Path(tmp) / "irradiance.npz", spectral=spectral,
+                                    samples_per_receptor=args.spp, depth=args.depth, seed=args.seed,
+                                    batch_rays=BATCH_RAYS)
+        wall = time.perf_counter() - start
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    rays = counts["cast"] + counts["shadow"]
+
+    table = read_receptors(receptors_csv)
+    scene = load_scene(scene_file, stages.wavelengths(spectral))
+    origins, axes = receptors_in_world(scene, table["position"], table["axis"])
+    bare = bare_rays_per_s(scene, origins, axes, table["delta_rho_deg"], rays, args.seed)
+    pipeline = rays / wall
+    print(f"{args.eye} pair in {args.scene}: {len(origins)} receptors, {rays} rays in {wall:.1f} s; "
+          f"{pipeline / 1e6:.2f} M rays/s against {bare / 1e6:.2f} M bare")
+    print(json.dumps({
+        "eye": args.eye, "scene": args.scene, "spp": args.spp, "depth": args.depth,
+        "receptors": len(origins), "rays": rays, "wall_s": round(wall, 2),
+        "pipeline_rays_per_s": round(pipeline), "bare_rays_per_s": round(bare),
+        "ratio": round(pipeline / bare, 3), "peak_memory_mb": round(peak, 1),
+    }))
+
+
+if __name__ == "__main__":
+    main()

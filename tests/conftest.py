@@ -1,0 +1,62 @@
+"""Shared fixtures: the spectral grid, meshes, the reference data, scene files."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from beeoptics.spectra import grid
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = ROOT.parent / "shared" / "data"
+
+
+@pytest.fixture(scope="session")
+def wavelengths():
+    return grid(300.0, 700.0, 5.0)
+
+
+@pytest.fixture(scope="session")
+def shared_data():
+    """The measured reference data beside the repository, or a skip saying why."""
+    if not SHARED.is_dir():
+        pytest.skip(f"reference data not found at {SHARED} (it is not part of the repository)")
+    return SHARED
+
+
+def cap_mesh(radius=1.0, half_angle_deg=60.0, rings=24):
+    """A spherical cap around +z, a height field over xy: (vertices, faces)."""
+    import igl
+
+    v, f = igl.icosahedron()
+    for _ in range(5):
+        v, f = igl.loop(v, f)
+        v = v / np.linalg.norm(v, axis=1, keepdims=True)
+    keep_f = (v[f][:, :, 2] >= np.cos(np.radians(half_angle_deg))).all(1)
+    f = f[keep_f]
+    used, inv = np.unique(f, return_inverse=True)
+    return v[used] * radius, inv.reshape(-1, 3)
+
+
+def disc_mesh(radius=1.0, edge=0.05):
+    """A flat disc in the xy-plane, remeshed isotropically with pymeshlab."""
+    import pymeshlab
+
+    n = 64
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    v = np.vstack([[0, 0, 0], np.column_stack([radius * np.cos(t), radius * np.sin(t), np.zeros(n)])])
+    f = np.array([[0, 1 + i, 1 + (i + 1) % n] for i in range(n)])
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(v, f))
+    ms.meshing_isotropic_explicit_remeshing(iterations=10, targetlen=pymeshlab.PureValue(edge))
+    m = ms.current_mesh()
+    return m.vertex_matrix(), m.face_matrix().astype(np.int64)
+
+
+def write_scene(path, scene):
+    """Write a scene description to ``path`` (a scene.yaml), creating its folder."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(yaml.safe_dump(scene, sort_keys=False))
+    return path

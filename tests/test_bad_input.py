@@ -1,0 +1,652 @@
+"""Bad input gets one clear error naming the file and the field, a nonzero exit, and no partial artifact.
+
+One test (or parametrised case) per kind of bad input. Every error is a
+:class:`beeoptics.errors.InputError` (or, for the workflow's config,
+Snakemake's validation error) whose one-line message names the file and
+the field at fault.
+"""
+
+import copy
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from snakemake.exceptions import WorkflowError
+from snakemake.utils import validate as snakemake_validate
+
+from beeoptics import eyefile, optics
+from beeoptics.atomic import atomic_path
+from beeoptics.errors import InputError
+from beeoptics.meshfile import read_mesh
+from beeoptics.receptors import read_receptors
+from beeoptics.scene import load_scene
+from beeoptics.sensitivity import measured_sensitivities
+from beeoptics.spectra import read_pavo_csv
+from beeoptics.table import read_table, write_table
+from beeoptics.validation import validate_config
+from conftest import ROOT, cap_mesh, write_scene
+
+DATA = ROOT / "tests" / "data"
+CONFIG_SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
+WL = np.arange(300, 701, 10)
+
+
+# --- helpers ---------------------------------------------------------------------------------
+
+
+def assert_names(excinfo, file, field):
+    """The error is an InputError on one line naming ``file`` (its name) and ``field``."""
+    err = excinfo.value
+    assert isinstance(err, InputError)
+    message = str(err)
+    assert "\n" not in message, message
+    assert Path(file).name in message, message
+    assert Path(err.path).name == Path(file).name, message
+    assert err.field == field, message
+    assert field in message, message
+    return message
+
+
+def write_obj(path, vertices, faces):
+    """A Wavefront OBJ of vertices (n, 3) and faces (lists of 0-based indices, any length)."""
+    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in np.asarray(vertices, float)]
+    lines += ["f " + " ".join(str(int(i) + 1) for i in face) for face in faces]
+    Path(path).write_text("\n".join(lines) + "\n")
+    return Path(path)
+
+
+def eye_dir(tmp_path, edit=None, mesh=None):
+    """The tiny test eye copied to tmp_path/tiny, its eye.yaml edited in place by ``edit``."""
+    folder = tmp_path / "tiny"
+    shutil.copytree(DATA / "eyes" / "tiny", folder)
+    eye = yaml.safe_load((folder / "eye.yaml").read_text())
+    if mesh is not None:
+        eye["mesh"] = mesh
+    if edit is not None:
+        edit(eye)
+    (folder / "eye.yaml").write_text(yaml.safe_dump(eye, sort_keys=False))
+    return folder / "eye.yaml"
+
+
+def open_scene():
+    return yaml.safe_load((DATA / "scenes" / "open" / "scene.yaml").read_text())
+
+
+def pavo(path, columns, wl=WL):
+    """A CSV in pavo's layout: ``wl`` then one column per entry of ``columns`` (name -> f(wl) or list)."""
+    rows = ["wl," + ",".join(columns)]
+    cells = {k: (v(wl) if callable(v) else v) for k, v in columns.items()}
+    for i, w in enumerate(wl):
+        rows.append(f"{w}," + ",".join(str(cells[k][i]) for k in columns))
+    Path(path).write_text("\n".join(rows) + "\n")
+    return Path(path)
+
+
+def flat(value):
+    return lambda wl: [value] * len(wl)
+
+
+def with_one(value, at=500, base=0.5):
+    return lambda wl: [value if w == at else base for w in wl]
+
+
+def bee_curves(wl):
+    """Three single-peaked curves at 350, 440 and 540 nm, in the order UV, B, G."""
+    wl = np.asarray(wl, float)
+    return {k: list(np.exp(-0.5 * ((wl - p) / 40.0) ** 2)) for k, p in (("UV", 350), ("B", 440), ("G", 540))}
+
+
+def default_config():
+    cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    cfg.update(eyes=["tiny"], scenes=["open"], eyes_dir=str(DATA / "eyes"), scenes_dir=str(DATA / "scenes"))
+    return cfg
+
+
+@pytest.fixture(scope="module")
+def grid():
+    from beeoptics.spectra import grid
+
+    return grid(300.0, 700.0, 10.0)
+
+
+# --- meshes: missing, empty, non-manifold, not triangles ---------------------------------------
+
+SQUARE = np.array([[0, 0, 0], [0.5, 0, 0], [0.5, 0.5, 0], [0, 0.5, 0]], float)
+# Three triangles on one edge, (0, 1): a fin, which no surface has.
+FIN = (np.array([[0, 0, 0], [0.5, 0, 0], [0, 0.5, 0], [0, -0.5, 0], [0.2, 0, 0.3]], float),
+       [[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+
+BAD_MESHES = {
+    # name: (file text or (vertices, faces), expected words in the message)
+    "empty": ("", "empty"),
+    "no_faces": ("v 0 0 0\nv 0.5 0 0\nv 0 0.5 0\n", "no faces"),
+    "quads": ((SQUARE, [[0, 1, 2, 3]]), "triangles"),
+    "non_manifold": (FIN, "not manifold"),
+}
+
+
+def make_mesh(folder, name):
+    spec, _ = BAD_MESHES[name]
+    path = Path(folder) / f"{name}.obj"
+    if isinstance(spec, str):
+        path.write_text(spec)
+    else:
+        write_obj(path, *spec)
+    return path
+
+
+@pytest.mark.parametrize("name", sorted(BAD_MESHES))
+def test_a_bad_mesh_file_is_refused_naming_it_and_its_faces(tmp_path, name):
+    path = make_mesh(tmp_path, name)
+    with pytest.raises(InputError) as e:
+        read_mesh(path)
+    assert BAD_MESHES[name][1] in assert_names(e, path, "faces")
+
+
+@pytest.mark.parametrize("name", sorted(BAD_MESHES))
+def test_a_bad_eye_mesh_is_refused_naming_it_and_its_faces(tmp_path, name):
+    eye_file = eye_dir(tmp_path, mesh=f"{name}.obj")
+    path = make_mesh(eye_file.parent, name)
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye_mesh(eyefile.load_eye(eye_file))
+    assert BAD_MESHES[name][1] in assert_names(e, path, "faces")
+
+
+@pytest.mark.parametrize("name", sorted(BAD_MESHES))
+def test_a_bad_scene_mesh_is_refused_naming_it_and_its_faces(tmp_path, grid, name):
+    scene = open_scene()
+    scene["objects"].append({"name": "bad", "mesh": f"{name}.obj", "material": "leaf"})
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    path = make_mesh(tmp_path, name)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert BAD_MESHES[name][1] in assert_names(e, path, "faces")
+
+
+def test_a_missing_mesh_file_is_named(tmp_path):
+    with pytest.raises(InputError) as e:
+        read_mesh(tmp_path / "nowhere.obj")
+    assert "no such mesh file" in assert_names(e, tmp_path / "nowhere.obj", "")
+
+
+def test_a_missing_eye_mesh_names_the_eye_file_and_its_mesh_key(tmp_path):
+    eye_file = eye_dir(tmp_path, mesh="nowhere.obj")
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye_mesh(eyefile.load_eye(eye_file))
+    assert "nowhere.obj" in assert_names(e, eye_file, "mesh")
+
+
+def test_a_missing_scene_mesh_names_the_scene_file_and_the_object(tmp_path, grid):
+    scene = open_scene()
+    scene["objects"].append({"name": "flower", "mesh": "nowhere.obj", "material": "leaf"})
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert "nowhere.obj" in assert_names(e, scene_file, "objects.1.mesh")
+
+
+def test_an_unreadable_mesh_file_gets_one_line_naming_it(tmp_path):
+    path = tmp_path / "notes.obj"
+    path.write_text("this is not a mesh\n")
+    with pytest.raises(InputError) as e:
+        read_mesh(path)
+    # The file as a whole is at fault: there is no field to name.
+    assert "cannot read mesh" in assert_names(e, path, "")
+
+
+def test_an_eye_mesh_pinched_at_a_vertex_is_refused(tmp_path):
+    # Two triangles meeting only at a corner: each edge is fine, the surface is not one sheet.
+    v = np.array([[0, 0, 0], [0.5, 0, 0], [0.5, 0.5, 0], [-0.5, 0, 0], [-0.5, -0.5, 0]], float)
+    eye_file = eye_dir(tmp_path, mesh="bowtie.obj")
+    path = write_obj(eye_file.parent / "bowtie.obj", v, [[0, 1, 2], [0, 3, 4]])
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye_mesh(eyefile.load_eye(eye_file))
+    assert "single vertex" in assert_names(e, path, "faces")
+
+
+# --- meshes in the wrong units -------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def cap():
+    # A cap 2.6 mm across, the length of a worker's eye.
+    v, f = cap_mesh(radius=1.3 / np.sin(np.radians(60.0)), half_angle_deg=60.0)
+    return v, f
+
+
+@pytest.mark.parametrize("scale, units", [(1000.0, "micrometres"), (1e-3, "metres")])
+def test_an_eye_mesh_in_the_wrong_units_is_refused(tmp_path, cap, scale, units):
+    v, f = cap
+    eye_file = eye_dir(tmp_path, mesh="eye.obj")
+    path = write_obj(eye_file.parent / "eye.obj", v * scale, f)
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye_mesh(eyefile.load_eye(eye_file))
+    assert "millimetres" in assert_names(e, path, "vertices")
+
+
+def test_the_same_eye_mesh_in_millimetres_is_accepted(tmp_path, cap):
+    v, f = cap
+    eye_file = eye_dir(tmp_path, mesh="eye.obj")
+    write_obj(eye_file.parent / "eye.obj", v, f)
+    vertices, _ = eyefile.load_eye_mesh(eyefile.load_eye(eye_file))
+    assert np.ptp(vertices, axis=0).max() == pytest.approx(2.6, rel=0.01)
+
+
+# --- the facet-diameter map -------------------------------------------------------------------
+
+ANCHOR = "facet_diameter.anchors.0.diameter_um"
+
+
+def _anchor(**kw):
+    return lambda e: e["facet_diameter"]["anchors"][0].update(kw)
+
+
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        (_anchor(diameter_um=-40.0), ANCHOR),
+        (_anchor(diameter_um=0.0), ANCHOR),
+        (_anchor(diameter_um=None), ANCHOR),
+        (_anchor(diameter_um=float("nan")), ANCHOR),
+        (lambda e: e["facet_diameter"]["anchors"][0].pop("diameter_um"), ANCHOR),
+        (lambda e: e["facet_diameter"].update(anchors=[]), "facet_diameter.anchors"),
+        (lambda e: e["facet_diameter"].pop("anchors"), "facet_diameter.anchors"),
+        (lambda e: e.pop("facet_diameter"), "facet_diameter"),
+    ],
+    ids=["negative", "zero", "null", "nan", "missing_key", "no_anchors", "anchors_key_missing", "no_map"],
+)
+def test_a_facet_map_with_negative_or_missing_values_is_refused(tmp_path, edit, field):
+    eye_file = eye_dir(tmp_path, edit)
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye(eye_file)
+    assert_names(e, eye_file, field)
+
+
+def test_an_empty_yaml_value_is_a_missing_value(tmp_path):
+    eye_file = eye_dir(tmp_path)
+    eye_file.write_text(eye_file.read_text().replace("diameter_um: 40.0", "diameter_um:"))
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye(eye_file)
+    assert_names(e, eye_file, ANCHOR)
+
+
+# --- spectra: coverage of 300–700 nm, NaN, negative values -------------------------------------
+
+
+@pytest.mark.parametrize(
+    "columns, wl, field, words",
+    [
+        ({"petal": flat(0.5)}, np.arange(400, 701, 10), "petal", "must cover 300–700"),
+        ({"petal": flat(0.5)}, np.arange(300, 601, 10), "petal", "must cover 300–700"),
+        ({"petal": with_one("nan")}, WL, "petal", "NaN"),
+        ({"petal": with_one("inf")}, WL, "petal", "infinity"),
+        ({"petal": with_one("")}, WL, "petal", "not a number"),
+        ({"petal": with_one("NA")}, WL, "petal", "not a number"),
+        ({"leaf": flat(0.1), "petal": with_one(-0.01)}, WL, "petal", "negative"),
+        ({"petal": flat(0.5)}, [300, "nan", 700], "wl", "wavelengths"),
+        ({"petal": flat(0.5)}, [300, 700, 500], "wl", "increasing"),
+        ({"petal": flat(0.5)}, [500], "wl", "at least two"),
+        ({"petal": flat(0.5)}, [], "wl", "at least two"),
+    ],
+    ids=["starts_at_400", "ends_at_600", "nan", "inf", "blank", "NA", "negative", "nan_wavelength",
+         "unsorted_wavelengths", "one_row", "header_only"],
+)
+def test_a_bad_pavo_csv_is_refused_naming_the_column(tmp_path, grid, columns, wl, field, words):
+    path = pavo(tmp_path / "spectra.csv", columns, wl)
+    with pytest.raises(InputError) as e:
+        read_pavo_csv(path, grid)
+    assert words in assert_names(e, path, field)
+
+
+def test_a_scene_material_from_a_bad_csv_names_the_csv_and_its_column(tmp_path, grid):
+    path = pavo(tmp_path / "petals.csv", {"white": flat(0.8), "blue": with_one(-0.2)})
+    scene = open_scene()
+    scene["materials"]["petal"] = {"reflectance": {"csv": {"file": "petals.csv", "column": "blue"}}}
+    scene["objects"].append({"primitive": {"sphere": {"radius_m": 0.01, "subdivisions": 1}}, "material": "petal"})
+    with pytest.raises(InputError) as e:
+        load_scene(write_scene(tmp_path / "scene.yaml", scene), grid)
+    assert "negative" in assert_names(e, path, "blue")
+
+
+def test_a_scene_material_from_a_short_csv_names_the_csv_and_its_column(tmp_path, grid):
+    path = pavo(tmp_path / "petals.csv", {"blue": flat(0.3)}, np.arange(400, 701, 10))
+    scene = open_scene()
+    scene["materials"]["petal"] = {"reflectance": {"csv": {"file": "petals.csv", "column": "blue"}}}
+    with pytest.raises(InputError) as e:
+        load_scene(write_scene(tmp_path / "scene.yaml", scene), grid)
+    assert "300–700" in assert_names(e, path, "blue")
+
+
+def test_a_scene_material_from_a_missing_csv_column_is_named(tmp_path, grid):
+    path = pavo(tmp_path / "petals.csv", {"white": flat(0.8)})
+    scene = open_scene()
+    scene["materials"]["petal"] = {"reflectance": {"csv": {"file": "petals.csv", "column": "blue"}}}
+    with pytest.raises(InputError) as e:
+        load_scene(write_scene(tmp_path / "scene.yaml", scene), grid)
+    assert "no such column" in assert_names(e, path, "blue")
+
+
+@pytest.mark.parametrize("value", [-0.2, float("nan")], ids=["negative", "nan"])
+def test_a_scene_material_with_a_bad_constant_reflectance_is_refused(tmp_path, grid, value):
+    scene = open_scene()
+    scene["materials"]["leaf"]["reflectance"] = value
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert_names(e, scene_file, "materials.leaf.reflectance")
+
+
+def _curves(**edits):
+    def make(wl):
+        c = bee_curves(wl)
+        for k, f in edits.items():
+            c[k] = f(wl) if callable(f) else f
+        return c
+    return make
+
+
+@pytest.mark.parametrize(
+    "curves, wl, field, words",
+    [
+        (_curves(), np.arange(350, 651, 10), "UV", "must cover 300–700"),
+        (_curves(B=lambda wl: [float("nan")] + [0.5] * (len(wl) - 1)), WL, "B", "NaN"),
+        (_curves(G=lambda wl: [-0.1] + [0.5] * (len(wl) - 1)), WL, "G", "negative"),
+        (_curves(B=flat(0.0)), WL, "B", "zero everywhere"),
+        (lambda wl: dict(reversed(list(bee_curves(wl).items()))), WL, "B", "UV, B, G"),
+        (lambda wl: {k: v for k, v in bee_curves(wl).items() if k != "G"}, WL, "UV, B", "three"),
+    ],
+    ids=["short", "nan", "negative", "zero_column", "wrong_order", "two_columns"],
+)
+def test_bad_measured_sensitivities_are_refused_naming_the_column(tmp_path, grid, curves, wl, field, words):
+    path = pavo(tmp_path / "sensitivity.csv", curves(np.asarray(wl)), wl)
+    with pytest.raises(InputError) as e:
+        measured_sensitivities(path, grid)
+    assert words in assert_names(e, path, field)
+
+
+def test_good_measured_sensitivities_are_accepted(tmp_path, grid):
+    path = pavo(tmp_path / "sensitivity.csv", bee_curves(WL))
+    assert measured_sensitivities(path, grid).sum(0) == pytest.approx([1.0, 1.0, 1.0])
+
+
+# --- unknown material, unknown eye class ---------------------------------------------------------
+
+
+def test_an_unknown_material_is_named_with_the_object_that_uses_it(tmp_path, grid):
+    scene = open_scene()
+    scene["objects"][0]["material"] = "leef"
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert "'leef'" in assert_names(e, scene_file, "objects.0.material")
+
+
+def test_an_unknown_eye_class_in_the_config_is_named(tmp_path):
+    cfg = default_config()
+    cfg["eyes"] = ["tiny", "nonexistent"]
+    source = tmp_path / "config.yaml"
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, source)
+    message = assert_names(e, source, "eyes.1")
+    # It says what is there instead.
+    assert "'nonexistent'" in message and "tiny" in message
+
+
+def test_an_unknown_scene_in_the_config_is_named(tmp_path):
+    cfg = default_config()
+    cfg["scenes"] = ["opne"]
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert "flower, open" in assert_names(e, tmp_path / "config.yaml", "scenes.0")
+
+
+def test_known_eyes_and_scenes_pass_the_config_check(tmp_path):
+    cfg = default_config()
+    cfg["scenes"] = ["open", "flower"]
+    assert validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml") is cfg
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="the Snakefile validates the config with snakemake.utils.validate, which does not check that "
+    "eye classes exist: a dry run with eyes: [nonexistent] succeeds and the run fails only inside the "
+    "remesh job. Fix: call beeoptics.validation.validate_config in the Snakefile (then drop this mark).",
+)
+def test_a_dry_run_with_an_unknown_eye_class_stops_naming_the_config_key(tmp_path):
+    cfg = default_config()
+    cfg["eyes"] = ["nonexistent"]
+    (tmp_path / "config.yaml").write_text(yaml.safe_dump(cfg))
+    result = subprocess.run(
+        [str(Path(sys.executable).with_name("snakemake")), "-n", "--directory", str(tmp_path),
+         "--snakefile", str(ROOT / "Snakefile"), "--configfile", str(tmp_path / "config.yaml")],
+        capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert result.returncode != 0
+    assert "config.yaml: eyes.0:" in result.stderr and "nonexistent" in result.stderr
+
+
+# --- a scene with no light ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "light, field",
+    [
+        ({"sky": "none", "sun": False}, "light"),
+        ({"sky": "none", "sun": True, "sun_elevation_deg": -10}, "light"),
+        ({"sky": "uniform", "radiance": 0.0, "sun": False}, "light"),
+        ({"sky": "uniform", "radiance": -1.0, "sun": False}, "light.radiance"),
+        ({"sky": "preetham", "sun": False, "sun_elevation_deg": -5}, "light.sun_elevation_deg"),
+        ({"sky": "preetham", "sun": True, "sun_elevation_deg": 0}, "light.sun_elevation_deg"),
+    ],
+    ids=["no_sky_no_sun", "sun_below_horizon", "black_sky", "negative_sky", "preetham_at_night",
+         "preetham_sun_on_horizon"],
+)
+def test_a_scene_with_no_light_is_refused(tmp_path, grid, light, field):
+    scene = open_scene()
+    scene["light"] = light
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert_names(e, scene_file, field)
+
+
+def test_an_emitting_material_that_no_object_uses_is_no_light(tmp_path, grid):
+    scene = open_scene()
+    scene["light"] = {"sky": "none", "sun": False}
+    scene["materials"]["lamp"] = {"reflectance": 0.5, "emission": 1.0}
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert "no light" in assert_names(e, scene_file, "light")
+    # Made into an object, the lamp lights the scene.
+    scene["objects"].append({"primitive": {"sphere": {"radius_m": 0.1, "subdivisions": 1}}, "material": "lamp"})
+    load_scene(write_scene(tmp_path / "scene.yaml", scene), grid)
+
+
+# --- Δρ ≤ 0 and zero samples -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        (lambda c: c["eye"]["delta_rho"].update(fixed_deg=0), "eye.delta_rho.fixed_deg"),
+        (lambda c: c["eye"]["delta_rho"].update(fixed_deg=-2.6), "eye.delta_rho.fixed_deg"),
+        (lambda c: c["eye"]["delta_rho"].update(wavelength_nm=0), "eye.delta_rho.wavelength_nm"),
+        (lambda c: c["trace"].update(samples_per_receptor=0), "trace.samples_per_receptor"),
+        (lambda c: c["trace"].update(samples_per_receptor=2.5), "trace.samples_per_receptor"),
+    ],
+    ids=["zero_delta_rho", "negative_delta_rho", "zero_wavelength", "zero_samples", "fractional_samples"],
+)
+def test_a_nonpositive_acceptance_angle_or_sample_count_in_the_config_is_refused(tmp_path, edit, field):
+    cfg = default_config()
+    edit(cfg)
+    # The schema's exclusiveMinimum / minimum, as the Snakefile checks it now ...
+    with pytest.raises(WorkflowError, match=field.rsplit(".", 1)[-1]):
+        snakemake_validate(copy.deepcopy(cfg), str(CONFIG_SCHEMA), set_default=True)
+    # ... and as validate_config does, in one line naming the file and the dotted key.
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert_names(e, tmp_path / "config.yaml", field)
+
+
+def test_a_nan_acceptance_angle_in_the_config_is_refused(tmp_path):
+    # NaN slips through every JSON Schema bound (each comparison with it is false), so
+    # Snakemake's validate accepts it; validate_config does not.
+    config_file = tmp_path / "config.yaml"
+    config_file.write_text("eye:\n  delta_rho:\n    fixed_deg: .nan\n")
+    cfg = {**default_config(), **yaml.safe_load(config_file.read_text())}
+    assert np.isnan(cfg["eye"]["delta_rho"]["fixed_deg"])
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, config_file)
+    assert "finite" in assert_names(e, config_file, "eye.delta_rho.fixed_deg")
+
+
+@pytest.mark.parametrize("value", [0, -1.7], ids=["zero", "negative"])
+def test_a_nonpositive_rhabdom_acceptance_in_the_eye_file_is_refused(tmp_path, value):
+    eye_file = eye_dir(tmp_path, lambda e: e.update(optics={"rhabdom_acceptance_deg": value}))
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye(eye_file)
+    assert_names(e, eye_file, "optics.rhabdom_acceptance_deg")
+
+
+def test_a_receptor_table_with_a_nonpositive_acceptance_angle_is_refused(tmp_path):
+    path = tmp_path / "receptors.csv"
+    write_table(path, {"id": [0, 1], "side": ["right", "left"], "x": [0.0, 0.0], "y": [1.0, -1.0],
+                       "z": [0.0, 0.0], "ax": [0.0, 0.0], "ay": [1.0, -1.0], "az": [0.0, 0.0],
+                       "facet_diameter_um": [20.0, 20.0], "delta_phi_deg": [2.0, 2.0],
+                       "delta_rho_deg": [2.6, 0.0]})
+    assert list(read_table(path))[-1] == "delta_rho_deg"
+    with pytest.raises(InputError) as e:
+        read_receptors(path)
+    assert_names(e, path, "delta_rho_deg")
+
+
+def test_the_optics_refuse_a_nonpositive_acceptance_angle_or_sample_count():
+    axes = np.array([[0.0, 0.0, 1.0]])
+    with pytest.raises(ValueError, match="fixed_deg"):
+        optics.delta_rho(np.array([20.0]), "fixed", fixed_deg=0.0)
+    with pytest.raises(ValueError, match="samples"):
+        optics.cone_samples(axes, 2.6, 0, seed=1)
+
+
+# --- a misspelt key ------------------------------------------------------------------------------
+
+
+def test_a_misspelt_config_key_stops_the_snakefiles_validation_naming_it():
+    # The same call as the Snakefile's: snakemake.utils.validate against the workflow's schema.
+    cfg = default_config()
+    cfg["trace"]["sampels_per_receptor"] = cfg["trace"].pop("samples_per_receptor")
+    with pytest.raises(WorkflowError, match="sampels_per_receptor"):
+        snakemake_validate(cfg, str(CONFIG_SCHEMA))
+
+
+@pytest.mark.parametrize(
+    "edit, field, hint",
+    [
+        (lambda c: c["trace"].update(sampels_per_receptor=c["trace"].pop("samples_per_receptor")),
+         "trace.sampels_per_receptor", "did you mean 'samples_per_receptor'?"),
+        (lambda c: c.update(scense=c.pop("scenes")), "scense", "did you mean 'scenes'?"),
+        (lambda c: c["eye"]["delta_rho"].update(fixed=2.6), "eye.delta_rho.fixed", "did you mean 'fixed_deg'?"),
+    ],
+    ids=["trace", "top_level", "nested"],
+)
+def test_a_misspelt_config_key_is_named_with_its_file_and_section(tmp_path, edit, field, hint):
+    cfg = default_config()
+    edit(cfg)
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert hint in assert_names(e, tmp_path / "config.yaml", field)
+
+
+def test_a_misspelt_key_in_an_eye_file_is_named(tmp_path):
+    eye_file = eye_dir(tmp_path, lambda e: e["facets"].update(cuont=e["facets"].pop("count")))
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye(eye_file)
+    # The misspelling is reported, with the key it stands for, rather than the key it leaves missing.
+    assert "did you mean 'count'?" in assert_names(e, eye_file, "facets.cuont")
+    eye_file = eye_dir(tmp_path / "2", lambda e: e["facets"].update(sd_=3))
+    with pytest.raises(InputError) as e:
+        eyefile.load_eye(eye_file)
+    assert "did you mean 'sd'?" in assert_names(e, eye_file, "facets.sd_")
+
+
+def test_a_misspelt_key_in_a_scene_file_is_named(tmp_path, grid):
+    scene = open_scene()
+    scene["light"]["sun_elevation"] = 30
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert "did you mean 'sun_elevation_deg'?" in assert_names(e, scene_file, "light.sun_elevation")
+
+
+def test_config_defaults_are_not_shared_between_configs(tmp_path):
+    a, b = {"eyes": ["tiny"]}, {"eyes": ["tiny"]}
+    for cfg in (a, b):
+        cfg.update(eyes_dir=str(DATA / "eyes"), scenes=["open"], scenes_dir=str(DATA / "scenes"))
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    a["trace"]["samples_per_receptor"] = 4
+    assert b["trace"]["samples_per_receptor"] == 256
+
+
+# --- a nonzero exit and no partial artifact ------------------------------------------------------
+
+
+def run_stage(code, cwd):
+    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True,
+                          cwd=cwd, timeout=120)
+
+
+def leftovers(folder, stem):
+    """The temporary files atomic writes of ``stem`` would leave behind."""
+    return sorted(p.name for p in Path(folder).glob(f".{stem}.*"))
+
+
+def test_remeshing_an_eye_in_the_wrong_units_exits_nonzero_and_writes_nothing(tmp_path, cap):
+    v, f = cap
+    eye_file = eye_dir(tmp_path, mesh="eye.obj")
+    write_obj(eye_file.parent / "eye.obj", v * 1000.0, f)
+    out = tmp_path / "results" / "remeshed.ply"
+    result = run_stage(f"""
+        from beeoptics import stages
+        stages.remesh_eye({str(eye_file)!r}, {str(out)!r})
+        """, tmp_path)
+    assert result.returncode != 0
+    last = result.stderr.strip().splitlines()[-1]
+    assert last.startswith("beeoptics.errors.InputError: ")
+    assert "eye.obj: vertices:" in last and "millimetres" in last
+    assert not out.exists()
+    assert not out.parent.exists() or leftovers(out.parent, "remeshed") == []
+
+
+def test_tracing_a_scene_with_no_light_exits_nonzero_and_writes_nothing(tmp_path):
+    scene = open_scene()
+    scene["light"] = {"sky": "none", "sun": False}
+    scene_file = write_scene(tmp_path / "dark" / "scene.yaml", scene)
+    out = tmp_path / "results"
+    out.mkdir()
+    result = run_stage(f"""
+        from beeoptics import stages
+        stages.trace_scene("receptors.csv", {str(scene_file)!r}, {str(out / "responses.csv")!r},
+                           {str(out / "irradiance.npz")!r},
+                           spectral={{"start_nm": 300, "end_nm": 700, "step_nm": 10}},
+                           samples_per_receptor=4, depth=1, seed=1, batch_rays=1024)
+        """, tmp_path)
+    assert result.returncode != 0
+    last = result.stderr.strip().splitlines()[-1]
+    assert last.startswith("beeoptics.errors.InputError: ")
+    assert "scene.yaml: light:" in last and "no light" in last
+    assert sorted(p.name for p in out.iterdir()) == []
+
+
+def test_a_failed_write_leaves_neither_the_artifact_nor_a_temporary_file(tmp_path):
+    out = tmp_path / "quality.json"
+    with pytest.raises(RuntimeError):
+        with atomic_path(out) as tmp:
+            tmp.write_text('{"half": ')
+            raise RuntimeError("killed")
+    assert not out.exists()
+    assert leftovers(tmp_path, "quality") == []

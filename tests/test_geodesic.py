@@ -1,0 +1,43 @@
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from beeoptics.geodesic import heat_distances, pair_distances
+from beeoptics.meshquery import MeshQuery
+from conftest import cap_mesh
+
+
+def test_geodesic_spacing_on_a_sphere_matches_great_circle_distance():
+    radius = 0.5
+    v, f = cap_mesh(radius, 80.0)
+    rng = np.random.default_rng(3)
+    p = rng.normal(size=(3000, 3))
+    p[:, 2] = np.abs(p[:, 2]) + 1.0
+    points, faces = MeshQuery(v, f).project(p / np.linalg.norm(p, axis=1, keepdims=True) * radius)
+    pairs = cKDTree(points).query_pairs(0.03, output_type="ndarray")
+    got = pair_distances(v, f, points, faces, pairs)
+    unit = points / np.linalg.norm(points, axis=1, keepdims=True)
+    great_circle = radius * np.arccos(np.clip((unit[pairs[:, 0]] * unit[pairs[:, 1]]).sum(1), -1, 1))
+    # The mesh is a polyhedron a little inside the sphere: within 0.2 % on every pair,
+    # and closer than the straight chord on average.
+    np.testing.assert_allclose(got, great_circle, rtol=2e-3)
+    chord = np.linalg.norm(points[pairs[:, 0]] - points[pairs[:, 1]], axis=1)
+    # Every point is nudged up to 1e-4 of a face inside it before the faces are split.
+    assert np.all(got >= chord * (1 - 2e-4))
+
+
+def test_points_on_one_face_are_a_straight_segment_apart():
+    v, f = cap_mesh(1.0, 40.0)
+    tri = v[f[0]]
+    points = np.array([tri.mean(0), 0.6 * tri[0] + 0.2 * tri[1] + 0.2 * tri[2]])
+    d = pair_distances(v, f, points, np.array([0, 0]), np.array([[0, 1]]))
+    assert d[0] == pytest.approx(np.linalg.norm(points[1] - points[0]), rel=1e-12)
+
+
+def test_heat_distances_grow_with_arc_length():
+    v, f = cap_mesh(1.0, 80.0)
+    top = int(np.argmax(v[:, 2]))
+    d = heat_distances(v, f, [top])[0]
+    arc = np.arccos(np.clip(v @ v[top], -1, 1))
+    assert np.corrcoef(d, arc)[0, 1] > 0.999
+    np.testing.assert_allclose(d[arc > 0.3], arc[arc > 0.3], rtol=0.05)

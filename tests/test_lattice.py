@@ -1,0 +1,45 @@
+import numpy as np
+import pytest
+
+from beeoptics.lattice import conformal_map, hex_grid, neighbour_counts, neighbour_edges, project_grid
+from beeoptics.meshquery import MeshQuery
+from conftest import cap_mesh, disc_mesh
+
+
+def test_hex_grid_has_six_neighbours_at_one_pitch():
+    pts = hex_grid(0.1, (0, 0), (1, 1))
+    d = np.linalg.norm(pts[:, None] - pts[None], axis=2)
+    centre = np.argmin(np.linalg.norm(pts - 0.5, axis=1))
+    near = np.sort(d[centre])[1:8]
+    np.testing.assert_allclose(near[:6], 0.1, rtol=1e-9)
+    assert near[6] == pytest.approx(0.1 * np.sqrt(3), rel=1e-9)
+
+
+@pytest.mark.parametrize("count", [300, 1000, 4752])
+def test_count_rule_gives_exactly_the_count_on_the_mesh(count):
+    v, f = cap_mesh(0.5, 75.0)
+    q = MeshQuery(v, f)
+    points, faces, pitch = project_grid(q, count)
+    assert len(points) == count
+    # On the mesh, under their grid point: projected along -z.
+    closest, _ = q.project(points)
+    np.testing.assert_allclose(closest, points, atol=1e-9)
+    # The pitch is what fills the projected disc: count ≈ π r²/(√3/2 p²) for this cap.
+    r = 0.5 * np.sin(np.radians(75.0))
+    assert pitch == pytest.approx(np.sqrt(np.pi * r**2 / (np.sqrt(3) / 2 * count)), rel=0.05)
+
+
+def test_delaunay_neighbours_of_a_hex_grid_are_six_inside():
+    v, f = disc_mesh(1.0, 0.05)
+    q = MeshQuery(v, f)
+    uv = conformal_map(v, f)
+    pts2 = hex_grid(0.08, (-0.7, -0.7), (0.7, 0.7))
+    pts2 = pts2[np.linalg.norm(pts2, axis=1) < 0.7]
+    points, faces = q.project(np.column_stack([pts2, np.zeros(len(pts2))]))
+    edges, boundary = neighbour_edges(q.interpolate(uv, points, faces), points, np.full(len(points), 0.15))
+    counts = neighbour_counts(edges, len(points))
+    # Points on the rim, and those next to the ragged, circle-cut edge of the grid,
+    # miss lattice neighbours; those well inside have all six.
+    inside = np.linalg.norm(points[:, :2], axis=1) < 0.55
+    assert boundary[np.linalg.norm(points[:, :2], axis=1) > 0.66].all()
+    assert np.all(counts[inside] == 6)

@@ -1,0 +1,47 @@
+import numpy as np
+from scipy.spatial import cKDTree
+
+from beeoptics.retina import canvas, density, nearest_receptor, voronoi
+
+
+def lattice(n=30):
+    x, y = np.meshgrid(np.linspace(-1, 1, n), np.linspace(-1, 1, n))
+    xy = np.column_stack([x.ravel(), y.ravel()])
+    xy += np.random.default_rng(0).normal(0, 0.01, xy.shape)
+    xy = np.vstack([xy, xy])
+    sides = np.repeat(["right", "left"], n * n)
+    return xy, sides
+
+
+def test_a_voronoi_pixel_belongs_to_its_nearest_receptor():
+    xy, sides = lattice()
+    can = canvas(xy, 120)
+    idx = nearest_receptor(can, xy, sides)
+    inside = idx >= 0
+    assert inside.mean() > 0.8
+    for s in ("left", "right"):
+        mine = np.flatnonzero(sides == s)
+        px = can.xy[(can.side == s) & inside]
+        want = mine[cKDTree(xy[mine]).query(px)[1]]
+        np.testing.assert_array_equal(idx[(can.side == s) & inside], want)
+
+
+def test_outside_the_convex_hull_is_empty():
+    xy, sides = lattice()
+    can = canvas(xy, 120)
+    img = voronoi(can, xy, sides, np.ones(len(xy)))
+    corner = np.abs(can.xy).max(-1) > 1.06
+    assert np.isnan(img[corner, 0]).all()
+
+
+def test_normalised_density_of_a_uniform_field_is_flat():
+    xy, sides = lattice(40)
+    # Crowd the receptors towards one side, as on a real eye.
+    xy[:, 0] = np.sign(xy[:, 0]) * np.abs(xy[:, 0]) ** 1.5
+    can = canvas(xy, 160)
+    raw = density(can, xy, sides, np.ones(len(xy)), normalise=False)[..., 0]
+    flat = density(can, xy, sides, np.ones(len(xy)), normalise=True)[..., 0]
+    inner = np.abs(can.xy).max(-1) < 0.8
+    # The raw estimate follows receptor density; the normalised one does not.
+    assert np.nanstd(raw[inner]) / np.nanmean(raw[inner]) > 0.1
+    np.testing.assert_allclose(flat[inner & ~np.isnan(flat)], 1.0, rtol=1e-9)

@@ -1,0 +1,104 @@
+"""Light transport against cases with known answers."""
+
+import numpy as np
+import pytest
+from scipy.optimize import curve_fit
+
+from beeoptics.optics import cone_samples, tangent_frames
+from beeoptics.scene import load_scene
+from beeoptics.trace import trace_paths
+from conftest import write_scene
+
+SKY = {"gaussian": {"base": 0.01, "peak": 0.05, "centre_nm": 400, "width_nm": 50}}
+LEAF = {"sigmoid": {"low": 0.05, "high": 0.5, "edge_nm": 520, "width_nm": 15}}
+
+
+def fan(n, around, spread_deg, rng):
+    """n unit axes scattered within spread_deg of ``around``."""
+    t = tangent_frames(np.array([around], float))[0]
+    a = np.radians(rng.uniform(-spread_deg, spread_deg, (n, 2)))
+    axes = np.asarray(around, float) + a[:, :1] * t[0] + a[:, 1:] * t[1]
+    return axes / np.linalg.norm(axes, axis=1, keepdims=True)
+
+
+def look(scene, axes, spp, depth=3, seed=1, delta_rho=2.6):
+    dirs, w = cone_samples(axes, delta_rho, spp, seed)
+    return trace_paths(scene, np.tile(scene.eye_position, (len(axes), 1)), dirs, w, depth=depth, seed=seed)
+
+
+def test_uniform_sky_alone_gives_every_receptor_the_sky_spectrum(tmp_path, wavelengths):
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "sky", "light": {"sky": "uniform", "radiance": SKY, "sun": False},
+        "eye": {"position_m": [0, 0, 0]}, "materials": {"grey": {"reflectance": 0.3}},
+        # Something to trace against, far out of sight behind the sky's radiance:
+        # an object is required, and a uniform sky surrounds the whole scene.
+        "objects": [{"primitive": {"plane": {"size_m": 1.0}}, "material": "grey", "translate_m": [0, 0, -1.0e4]}]})
+    scene = load_scene(path, wavelengths)
+    axes = np.random.default_rng(0).normal(size=(300, 3))
+    axes = axes[axes[:, 2] > -0.9]
+    l = look(scene, axes / np.linalg.norm(axes, axis=1, keepdims=True), 32)
+    np.testing.assert_allclose(l, np.tile(scene.sky.basis[0], (len(l), 1)), rtol=1e-12)
+
+
+def test_lambertian_plane_under_a_uniform_sky_looks_like_rho_times_the_sky(tmp_path, wavelengths):
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "plane", "light": {"sky": "uniform", "radiance": SKY, "sun": False},
+        "eye": {"position_m": [0, 0, 0.5]}, "materials": {"leaf": {"reflectance": LEAF}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0e6}}, "material": "leaf"}]})
+    scene = load_scene(path, wavelengths)
+    l = look(scene, fan(100, [0, 0, -1], 40, np.random.default_rng(1)), 64)
+    want = scene.reflectance[0] * scene.sky.basis[0]
+    # Each path sees the plane, then the sky: ρL exactly, up to Monte Carlo error (none here).
+    np.testing.assert_allclose(l, np.tile(want, (len(l), 1)), rtol=1e-9)
+
+
+@pytest.mark.parametrize("rho", [0.3, 0.6])
+def test_furnace_radiance_is_emission_over_one_minus_albedo(tmp_path, wavelengths, rho):
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "furnace", "light": {"sky": "none", "sun": False},
+        "eye": {"position_m": [0, 0, 0]},
+        "materials": {"wall": {"reflectance": rho, "emission": 1.0}},
+        "objects": [{"primitive": {"sphere": {"radius_m": 1.0, "subdivisions": 3}}, "material": "wall"}]})
+    scene = load_scene(path, wavelengths)
+    axes = np.random.default_rng(2).normal(size=(200, 3))
+    l = look(scene, axes / np.linalg.norm(axes, axis=1, keepdims=True), 256, depth=16)
+    assert l.mean() == pytest.approx(1.0 / (1.0 - rho), rel=0.01)
+    # Grey everywhere: every wavelength the same.
+    np.testing.assert_allclose(l.std(axis=1), 0.0, atol=1e-9)
+
+
+def test_a_small_disc_swept_across_the_axis_traces_the_acceptance_function(tmp_path, wavelengths):
+    # A virtual version of Eheim & Wehner's (1972) recordings: a bright disc 0.2° in
+    # radius at 1 m, swept across the receptor's axis, against a black background.
+    radius = float(np.tan(np.radians(0.2)))
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "disc", "light": {"sky": "none", "sun": False},
+        "eye": {"position_m": [0, 0, 0]},
+        "materials": {"lamp": {"reflectance": 0.0, "emission": 1.0}},
+        "objects": [{"primitive": {"sphere": {"radius_m": radius, "subdivisions": 5}},
+                     "material": "lamp", "translate_m": [1.0, 0, 0]}]})
+    scene = load_scene(path, wavelengths)
+    delta_rho = 2.6
+    offsets = np.linspace(-3.0, 3.0, 61)
+    axes = np.column_stack([np.cos(np.radians(offsets)), np.sin(np.radians(offsets)), np.zeros_like(offsets)])
+    response = look(scene, axes, 16384, depth=1, delta_rho=delta_rho)[:, 0]
+
+    def gaussian(x, a, s):
+        return a * np.exp(-0.5 * (x / s) ** 2)
+
+    (a, s), _ = curve_fit(gaussian, offsets, response, p0=[response.max(), 1.0])
+    fwhm = 2.0 * np.sqrt(2.0 * np.log(2.0)) * abs(s)
+    # The disc itself widens the curve by 0.4 % (its own variance, a²/4).
+    assert fwhm == pytest.approx(delta_rho, rel=0.03)
+
+
+def test_noise_falls_as_one_over_the_square_root_of_the_samples(tmp_path, wavelengths):
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "noise", "light": {"sky": "preetham", "sun": True, "sun_elevation_deg": 40},
+        "eye": {"position_m": [0, 0, 0.5]}, "materials": {"leaf": {"reflectance": LEAF}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0e6}}, "material": "leaf"}]})
+    scene = load_scene(path, wavelengths)
+    # Identical receptors: their spread is the estimator's noise (from sampling the sky).
+    axes = np.tile([0.0, 0.0, -1.0], (400, 1))
+    spread = {spp: look(scene, axes, spp)[:, 40].std() for spp in (16, 256)}
+    assert spread[16] / spread[256] == pytest.approx(4.0, rel=0.2)

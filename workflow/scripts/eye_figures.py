@@ -1,0 +1,4 @@
+from beeoptics import stages
+
+with stages.logging_to(snakemake.log[0]):
+    stages.eye_figures(snakemake.params.eye, snakemake.input.relaxation, dict(snakemake.output))
