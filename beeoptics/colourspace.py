@@ -83,6 +83,13 @@ COC_WEIGHTS = np.array([
 ])
 
 
+#: Receptor noise of the honey bee's UV, B and G receptors as Weber fractions,
+#: estimated from intracellular recordings (Vorobyev, Brandt, Peitsch,
+#: Laughlin & Menzel 2001, Vision Res 41:639–653); the values in wide use for
+#: Apis, e.g. in the examples of the R package colourvision (Gawryszewski 2018).
+BEE_WEBER = np.array([0.13, 0.06, 0.12])
+
+
 class SpectralLocus(NamedTuple):
     """Coordinates of monochromatic lights: wavelengths (nm), triangle and hexagon (x, y), each (n, 2)."""
 
@@ -428,3 +435,38 @@ def spectral_locus(sensitivities, wavelengths, background_q, flux):
     flux = np.broadcast_to(np.asarray(flux, float), wl.shape)
     q = von_kries(flux[:, None] * np.asarray(sensitivities, float) * step, background_q)
     return SpectralLocus(wl, triangle(q), hexagon(excitation(q)))
+
+
+def describe(q, background_q, weber=BEE_WEBER):
+    """Every colour-space coordinate of a set of catches, as named columns.
+
+    Parameters
+    ----------
+    q : array_like, shape (n, 3)
+        Quantum catches UV, B, G, in the units of ``background_q``.
+    background_q : array_like, shape (3,) or (n, 3)
+        Catches of the adapting background.
+    weber : array_like, shape (3,)
+        Receptor noise for the RNL distance from the background.
+
+    Returns
+    -------
+    dict of ndarray (n,)
+        ``q_UV, q_B, q_G`` (von Kries), ``E_UV, E_B, E_G``, ``hex_x, hex_y,
+        hex_hue_deg, hex_r``, ``coc_A, coc_B``, ``tri_x, tri_y`` (of the
+        adapted catches, so the background is at the centre) and ``rnl_dS``
+        (JND from the background).
+    """
+    q = np.asarray(q, float)
+    adapted = von_kries(q, background_q)
+    e = excitation(adapted)
+    hexagon_xy = hexagon(e)
+    hue, r = hexagon_polar(hexagon_xy)
+    a_b = coc(e)
+    tri = triangle(adapted)
+    columns = {f"q_{k}": adapted[:, i] for i, k in enumerate(("UV", "B", "G"))}
+    columns.update({f"E_{k}": e[:, i] for i, k in enumerate(("UV", "B", "G"))})
+    columns.update(hex_x=hexagon_xy[:, 0], hex_y=hexagon_xy[:, 1], hex_hue_deg=hue, hex_r=r,
+                   coc_A=a_b[:, 0], coc_B=a_b[:, 1], tri_x=tri[:, 0], tri_y=tri[:, 1],
+                   rnl_dS=rnl_distance(adapted, np.ones(3), weber))
+    return columns

@@ -14,13 +14,15 @@ import colour
 import igl
 import numpy as np
 
-from beeoptics import camera, figures, optics
+from beeoptics import camera, colourspace, figures, optics
+from beeoptics import sky as skies
+from beeoptics.errors import InputError
 from beeoptics.catches import acceptance_solid_angle, quantum_catches
 from beeoptics.imagefile import write_exr, write_png
 from beeoptics.receptors import read_receptors
 from beeoptics.retina import canvas, density, retinal_plane, voronoi
 from beeoptics.scene import load_scene, raycasting_scene, receptors_in_world
-from beeoptics.sensitivity import RECEPTORS, receptor_sensitivities
+from beeoptics.sensitivity import RECEPTORS, overall_sensitivity, receptor_sensitivities
 from beeoptics.spectra import grid
 from beeoptics.table import read_table, write_table
 from beeoptics.trace import trace_paths
@@ -178,41 +180,86 @@ def wavelengths(spectral):
     return grid(spectral["start_nm"], spectral["end_nm"], spectral["step_nm"])
 
 
-def trace_scene(receptors_csv, scene_file, responses_csv, irradiance_npz, *, spectral,
-                samples_per_receptor, depth, seed, batch_rays, progress=None):
-    """Stage 3: trace every receptor's acceptance cone through a scene.
+def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_receptor, depth, seed,
+               batch_rays, part=0, parts=1, progress=None):
+    """Stage 3: trace the acceptance cones of one share of the receptors through a scene.
 
-    Writes each receptor's spectral radiance and irradiance (``.npz``) and
-    its quantum catches (``responses.csv``).
+    Receptors are split into ``parts`` contiguous shares, for running on
+    several machines; every receptor draws the same random numbers in any
+    share, so the gathered result is bit-identical to a single part's.
+    Writes the share's receptor ids, spectral radiance and ray counts.
     """
     wl = wavelengths(spectral)
     scene = load_scene(scene_file, wl)
     table = read_receptors(receptors_csv)
     origins, axes = receptors_in_world(scene, table["position"], table["axis"])
     drho = table["delta_rho_deg"]
+    bounds = np.linspace(0, len(origins), parts + 1).round().astype(int)
+    first, last = bounds[part], bounds[part + 1]
     rs = raycasting_scene(scene)
-    n = len(origins)
     chunk = max(1, batch_rays // samples_per_receptor)
-    radiance = np.empty((n, len(wl)))
+    radiance = np.empty((last - first, len(wl)))
     counts = {}
     start = time.perf_counter()
-    for lo in range(0, n, chunk):
-        hi = min(n, lo + chunk)
+    for lo in range(first, last, chunk):
+        hi = min(last, lo + chunk)
         dirs, weights = optics.cone_samples(axes[lo:hi], drho[lo:hi], samples_per_receptor, seed, first=lo)
-        radiance[lo:hi] = trace_paths(scene, origins[lo:hi], dirs, weights, depth=depth, seed=seed,
-                                      first_stream=lo, rs=rs, counts=counts)
+        radiance[lo - first:hi - first] = trace_paths(scene, origins[lo:hi], dirs, weights, depth=depth,
+                                                      seed=seed, first_stream=lo, rs=rs, counts=counts)
         if progress is not None:
-            progress(hi, n)
-    log.info("traced %d receptors, %d rays and %d shadow rays in %.1f s", n, counts["cast"],
+            progress(hi - first, last - first)
+    log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], time.perf_counter() - start)
+    with atomic_path(part_npz) as tmp:
+        np.savez_compressed(tmp, id=table["id"][first:last], radiance=radiance,
+                            rays=np.array([counts["cast"], counts["shadow"]]))
+    return counts
+
+
+def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradiance_npz, *, spectral,
+                     background="scene"):
+    """Stage 3, gathered: catches and colour-space coordinates of every receptor.
+
+    Parameters
+    ----------
+    part_npzs : list of path
+        The shares written by :func:`trace_part`, in order.
+    background : str
+        The adapting background of von Kries adaptation: ``"scene"``, the
+        mean catch over both eyes, or the name of one of the scene's
+        materials, as a Lambertian surface under the scene's sky and sun.
+    """
+    wl = wavelengths(spectral)
+    table = read_receptors(receptors_csv)
+    parts = [np.load(p) for p in part_npzs]
+    ids = np.concatenate([p["id"] for p in parts])
+    if not np.array_equal(ids, table["id"]):
+        raise InputError(part_npzs[0], "id", "the traced shares do not cover the receptor table in order")
+    radiance = np.concatenate([p["radiance"] for p in parts])
+    drho = table["delta_rho_deg"]
     irradiance = radiance * acceptance_solid_angle(drho)[:, None]
-    catches = quantum_catches(irradiance, receptor_sensitivities(wl), wl)
+    sens = receptor_sensitivities(wl)
+    catches = quantum_catches(irradiance, sens, wl)
+    # Adaptation compares radiances: the acceptance solid angle cancels in every ratio.
+    seen = quantum_catches(radiance, sens, wl)
+    if background == "scene":
+        reference = seen.mean(axis=0)
+    else:
+        scene = load_scene(scene_file, wl)
+        if background not in scene.material_names:
+            raise InputError(scene_file, "materials", f"no material {background!r} to adapt to (colour.background)")
+        rho = scene.reflectance[scene.material_names.index(background)]
+        lambertian = rho * skies.horizontal_irradiance(scene.sky, scene.sun) / np.pi
+        reference = quantum_catches(lambertian[None], sens, wl)[0]
+    overall = overall_sensitivity(wl)
+    brightness = quantum_catches(irradiance, (overall / overall.sum())[:, None], wl)[:, 0]
     write_table(responses_csv, {"id": table["id"], "side": table["side"],
-                                **{r: catches[:, k] for k, r in enumerate(RECEPTORS)}})
+                                **{r: catches[:, k] for k, r in enumerate(RECEPTORS)},
+                                "brightness": brightness,
+                                **colourspace.describe(seen, reference)})
     with atomic_path(irradiance_npz) as tmp:
         np.savez_compressed(tmp, id=table["id"], wavelength_nm=wl, radiance=radiance.astype(np.float32),
                             irradiance=irradiance.astype(np.float32))
-    return counts
 
 
 def _display(linear, scale):

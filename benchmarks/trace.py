@@ -10,7 +10,7 @@ same size, through Open3D's ``RaycastingScene.cast_rays`` alone.
 
 The last line printed is one JSON object: eye, scene, spp, depth,
 receptors, rays (every ray the trace cast: primary, bounce and shadow),
-wall_s (the trace stage's wall time), pipeline_rays_per_s (rays / wall_s),
+wall_s (the wall time of the trace stage, traced and gathered), pipeline_rays_per_s (rays / wall_s),
 bare_rays_per_s (bare ``cast_rays`` throughput on the same scene), ratio
 (their quotient) and peak_memory_mb (the process's peak resident memory).
 """
@@ -78,10 +78,12 @@ def main():
 
     with tempfile.TemporaryDirectory() as tmp:
         start = time.perf_counter()
-        counts = stages.trace_scene(receptors_csv, scene_file, Path(tmp) / "responses.csv",
-                                    Path(tmp) / "irradiance.npz", spectral=spectral,
-                                    samples_per_receptor=args.spp, depth=args.depth, seed=args.seed,
-                                    batch_rays=BATCH_RAYS)
+        part = Path(tmp) / "radiance.npz"
+        counts = stages.trace_part(receptors_csv, scene_file, part, spectral=spectral,
+                                   samples_per_receptor=args.spp, depth=args.depth, seed=args.seed,
+                                   batch_rays=BATCH_RAYS)
+        stages.gather_responses(receptors_csv, scene_file, [part], Path(tmp) / "responses.csv",
+                                Path(tmp) / "irradiance.npz", spectral=spectral)
         wall = time.perf_counter() - start
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     rays = counts["cast"] + counts["shadow"]

@@ -105,3 +105,28 @@ def test_a_misspelt_config_key_stops_the_run_naming_it(workdir, tmp_path):
                             capture_output=True, text=True)
     assert result.returncode != 0
     assert "sampels_per_receptor" in result.stderr + result.stdout
+
+
+def test_slurm_profile_dry_run(workdir):
+    """The SLURM profile parses, and plans every job for sbatch, without a cluster."""
+    result = run(workdir, "--workflow-profile", str(ROOT / "workflow" / "profiles" / "slurm"),
+                 "--dry-run", "--forceall")
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert "rule trace" in result.stdout + result.stderr
+
+
+def test_a_trace_split_into_parts_is_bit_identical(workdir):
+    """Scatter/gather: three shares give the same bytes as one job (the eye is rebuilt, too)."""
+    one = (workdir / "results" / "tiny" / "flower" / "irradiance.npz").read_bytes()
+    responses = (workdir / "results" / "tiny" / "flower" / "responses.csv").read_bytes()
+    split = workdir / "split"
+    split.mkdir()
+    config = yaml.safe_load((workdir / "config.yaml").read_text())
+    config["trace"]["parts"] = 3
+    config["scenes"] = ["flower"]
+    (split / "config.yaml").write_text(yaml.safe_dump(config))
+    result = run(split, "results/tiny/open/irradiance.npz", "results/tiny/open/responses.csv")
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert len(list((split / "results" / "tiny" / "flower" / "parts").glob("radiance_*_of_3.npz"))) == 3
+    assert (split / "results" / "tiny" / "flower" / "irradiance.npz").read_bytes() == one
+    assert (split / "results" / "tiny" / "flower" / "responses.csv").read_bytes() == responses

@@ -20,6 +20,8 @@ IMAGES = [
 wildcard_constraints:
     eye="[A-Za-z0-9_-]+",
     scene="[A-Za-z0-9_-]+",
+    part="[0-9]+",
+    parts="[0-9]+",
 
 
 def folder_files(folder):
@@ -33,6 +35,12 @@ def eye_sources(wildcards):
 
 def scene_sources(wildcards):
     return folder_files(SCENES_DIR / wildcards.scene)
+
+
+def trace_parts(wildcards):
+    """The shares the trace of one eye in one scene is split into (config trace.parts)."""
+    n = config["trace"]["parts"]
+    return [f"results/{wildcards.eye}/{wildcards.scene}/parts/radiance_{k}_of_{n}.npz" for k in range(n)]
 
 
 def all_targets():

@@ -6,19 +6,39 @@ rule trace:
         receptors="results/eyes/{eye}/receptors.csv",
         scene=scene_sources,
     output:
-        responses="results/{eye}/{scene}/responses.csv",
-        irradiance="results/{eye}/{scene}/irradiance.npz",
+        "results/{eye}/{scene}/parts/radiance_{part}_of_{parts}.npz",
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         trace=config["trace"],
     log:
-        "results/logs/trace/{eye}/{scene}.log",
+        "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
     threads: workflow.cores
     resources:
         mem_mb=4000,
+        runtime=60,
     script:
         "../scripts/trace.py"
+
+
+rule gather:
+    input:
+        receptors="results/eyes/{eye}/receptors.csv",
+        scene=scene_sources,
+        parts=trace_parts,
+    output:
+        responses="results/{eye}/{scene}/responses.csv",
+        irradiance="results/{eye}/{scene}/irradiance.npz",
+    params:
+        scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
+        spectral=config["spectral"],
+        background=config["colour"]["background"],
+    log:
+        "results/logs/gather/{eye}/{scene}.log",
+    resources:
+        mem_mb=2000,
+    script:
+        "../scripts/gather.py"
 
 
 rule human_view:

@@ -1,11 +1,16 @@
 from beeoptics import stages
 
 with stages.logging_to(snakemake.log[0]):
-    stages.trace_scene(
+    t = snakemake.params.trace
+    stages.trace_part(
         snakemake.input.receptors,
         snakemake.params.scene,
-        snakemake.output.responses,
-        snakemake.output.irradiance,
+        snakemake.output[0],
         spectral=snakemake.params.spectral,
-        **snakemake.params.trace,
+        samples_per_receptor=t["samples_per_receptor"],
+        depth=t["depth"],
+        seed=t["seed"],
+        batch_rays=t["batch_rays"],
+        part=int(snakemake.wildcards.part),
+        parts=int(snakemake.wildcards.parts),
     )
