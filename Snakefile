@@ -1,7 +1,11 @@
 # beeoptics: what a honey bee sees of a scene, from eye meshes to bee-colour images.
 # Stages live in workflow/rules/<stage>.smk; every stage is a function of beeoptics.stages.
 
+from pathlib import Path
+
 from snakemake.utils import min_version, validate
+
+from beeoptics.validation import validate_config
 
 min_version("9.0")
 
@@ -13,6 +17,9 @@ report: "workflow/report/workflow.rst"
 
 
 validate(config, "workflow/schemas/config.schema.yaml")
+# Also stop at once, naming the key, when an eye class or scene has no folder.
+validate_config(config, Path(workflow.basedir) / "workflow/schemas/config.schema.yaml",
+                source=", ".join(map(str, workflow.configfiles)) or "config")
 
 
 include: "workflow/rules/common.smk"
