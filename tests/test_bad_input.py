@@ -411,12 +411,6 @@ def test_known_eyes_and_scenes_pass_the_config_check(tmp_path):
     assert validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml") is cfg
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the Snakefile validates the config with snakemake.utils.validate, which does not check that "
-    "eye classes exist: a dry run with eyes: [nonexistent] succeeds and the run fails only inside the "
-    "remesh job. Fix: call beeoptics.validation.validate_config in the Snakefile (then drop this mark).",
-)
 def test_a_dry_run_with_an_unknown_eye_class_stops_naming_the_config_key(tmp_path):
     cfg = default_config()
     cfg["eyes"] = ["nonexistent"]
@@ -426,7 +420,8 @@ def test_a_dry_run_with_an_unknown_eye_class_stops_naming_the_config_key(tmp_pat
          "--snakefile", str(ROOT / "Snakefile"), "--configfile", str(tmp_path / "config.yaml")],
         capture_output=True, text=True, cwd=tmp_path, timeout=120)
     assert result.returncode != 0
-    assert "config.yaml: eyes.0:" in result.stderr and "nonexistent" in result.stderr
+    printed = result.stdout + result.stderr
+    assert "config.yaml: eyes.0:" in printed and "nonexistent" in printed
 
 
 # --- a scene with no light ---------------------------------------------------------------------
@@ -630,10 +625,9 @@ def test_tracing_a_scene_with_no_light_exits_nonzero_and_writes_nothing(tmp_path
     out.mkdir()
     result = run_stage(f"""
         from beeoptics import stages
-        stages.trace_scene("receptors.csv", {str(scene_file)!r}, {str(out / "responses.csv")!r},
-                           {str(out / "irradiance.npz")!r},
-                           spectral={{"start_nm": 300, "end_nm": 700, "step_nm": 10}},
-                           samples_per_receptor=4, depth=1, seed=1, batch_rays=1024)
+        stages.trace_part("receptors.csv", {str(scene_file)!r}, {str(out / "radiance_0_of_1.npz")!r},
+                          spectral={{"start_nm": 300, "end_nm": 700, "step_nm": 10}},
+                          samples_per_receptor=4, depth=1, seed=1, batch_rays=1024)
         """, tmp_path)
     assert result.returncode != 0
     last = result.stderr.strip().splitlines()[-1]
