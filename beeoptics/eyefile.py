@@ -56,9 +56,7 @@ def load_eye_mesh(eye):
         meeting at a single vertex), not in millimetres at bee size, or its
         faces do not face outward along the eye's local +z.
     """
-    if not Path(eye["mesh_path"]).is_file():
-        raise InputError(eye.get("path", eye["mesh_path"]), "mesh", f"no such mesh file {eye['mesh_path']}")
-    vertices, faces = read_mesh(eye["mesh_path"])
+    vertices, faces = read_mesh(eye["mesh_path"], source=eye["path"], field="mesh")
     pinched = ~np.asarray(igl.is_vertex_manifold(faces), bool).ravel()
     if pinched.any():
         raise InputError(

@@ -16,12 +16,13 @@ from beeoptics.atomic import atomic_path
 from beeoptics.errors import InputError
 
 
-def read_mesh(path, patterns=False):
+def read_mesh(path, patterns=False, source=None, field=""):
     """Vertices (n, 3) and triangles (m, 3) of a mesh file, checked.
 
     With ``patterns``, also the face colours (m, 3) in [0, 1] and the
     texture coordinates of each face's corners (m, 3, 2), either None
-    where the file has none.
+    where the file has none. A missing file is reported against ``source``
+    and ``field``, the file and key that name the mesh, when given.
 
     Raises
     ------
@@ -31,7 +32,7 @@ def read_mesh(path, patterns=False):
     """
     path = Path(path)
     if not path.is_file():
-        raise InputError(path, "", "no such mesh file")
+        raise InputError(source or path, field, f"no such mesh file {path}")
     if path.stat().st_size == 0:
         raise InputError(path, "faces", "the file is empty: the mesh has no faces")
     ms = pymeshlab.MeshSet()

@@ -75,9 +75,7 @@ def _primitive(spec):
 def _object(spec, base, names, source, index):
     field = f"objects.{index}"
     if "mesh" in spec:
-        if not (base / spec["mesh"]).is_file():
-            raise InputError(source, f"{field}.mesh", f"no such mesh file {base / spec['mesh']}")
-        v, f, colours, uv = read_mesh(base / spec["mesh"], patterns=True)
+        v, f, colours, uv = read_mesh(base / spec["mesh"], patterns=True, source=source, field=f"{field}.mesh")
     else:
         (v, f), colours, uv = _primitive(spec["primitive"]), None, None
     rot = Rotation.from_euler("xyz", spec["rotate_deg"], degrees=True).as_matrix()

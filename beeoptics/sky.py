@@ -209,7 +209,7 @@ def luminance(wavelengths, radiance):
     return KM * np.trapezoid(ybar * radiance, wl)
 
 
-def horizontal_irradiance(sky, sun_disc, samples=64):
+def horizontal_irradiance(sky, sun_disc, n_wavelengths, samples=64):
     """Spectral irradiance on an unshaded horizontal surface from the sky and sun, W m⁻² nm⁻¹.
 
     The sky is integrated over the upper hemisphere by cosine-weighted
@@ -217,8 +217,7 @@ def horizontal_irradiance(sky, sun_disc, samples=64):
     mean radiance over a cosine-distributed set); the sun adds its radiance
     times its disc's solid angle times the cosine of its zenith angle.
     """
-    n_wl = (sky.basis if sky is not None else sun_disc.radiance[None]).shape[1]
-    total = np.zeros(n_wl)
+    total = np.zeros(n_wavelengths)
     if sky is not None:
         u = (np.arange(samples) + 0.5) / samples
         u1, u2 = np.meshgrid(u, u, indexing="ij")

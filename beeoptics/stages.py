@@ -180,6 +180,12 @@ def wavelengths(spectral):
     return grid(spectral["start_nm"], spectral["end_nm"], spectral["step_nm"])
 
 
+def _chunks(first, last, batch_rays, samples):
+    """Bounds of consecutive bundles whose rays together fit in one batch."""
+    step = max(1, batch_rays // samples)
+    return [(lo, min(last, lo + step)) for lo in range(first, last, step)]
+
+
 def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_receptor, depth, seed,
                batch_rays, part=0, parts=1, progress=None):
     """Stage 3: trace the acceptance cones of one share of the receptors through a scene.
@@ -187,7 +193,7 @@ def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_rec
     Receptors are split into ``parts`` contiguous shares, for running on
     several machines; every receptor draws the same random numbers in any
     share, so the gathered result is bit-identical to a single part's.
-    Writes the share's receptor ids, spectral radiance and ray counts.
+    Writes the share's receptor ids and spectral radiance; returns the ray counts.
     """
     wl = wavelengths(spectral)
     scene = load_scene(scene_file, wl)
@@ -197,12 +203,10 @@ def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_rec
     bounds = np.linspace(0, len(origins), parts + 1).round().astype(int)
     first, last = bounds[part], bounds[part + 1]
     rs = raycasting_scene(scene)
-    chunk = max(1, batch_rays // samples_per_receptor)
     radiance = np.empty((last - first, len(wl)))
     counts = {}
     start = time.perf_counter()
-    for lo in range(first, last, chunk):
-        hi = min(last, lo + chunk)
+    for lo, hi in _chunks(first, last, batch_rays, samples_per_receptor):
         dirs, weights = optics.cone_samples(axes[lo:hi], drho[lo:hi], samples_per_receptor, seed, first=lo)
         radiance[lo - first:hi - first] = trace_paths(scene, origins[lo:hi], dirs, weights, depth=depth,
                                                       seed=seed, first_stream=lo, rs=rs, counts=counts)
@@ -211,8 +215,7 @@ def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_rec
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], time.perf_counter() - start)
     with atomic_path(part_npz) as tmp:
-        np.savez_compressed(tmp, id=table["id"][first:last], radiance=radiance,
-                            rays=np.array([counts["cast"], counts["shadow"]]))
+        np.savez_compressed(tmp, id=table["id"][first:last], radiance=radiance)
     return counts
 
 
@@ -249,8 +252,12 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
         if background not in scene.material_names:
             raise InputError(scene_file, "materials", f"no material {background!r} to adapt to (colour.background)")
         rho = scene.reflectance[scene.material_names.index(background)]
-        lambertian = rho * skies.horizontal_irradiance(scene.sky, scene.sun) / np.pi
+        lambertian = rho * skies.horizontal_irradiance(scene.sky, scene.sun, len(wl)) / np.pi
         reference = quantum_catches(lambertian[None], sens, wl)[0]
+    if not (reference > 0.0).all():
+        raise InputError(scene_file, "colour.background",
+                         f"the background {background!r} gives no catch in some receptor class; "
+                         "von Kries adaptation needs a background every class sees")
     overall = overall_sensitivity(wl)
     brightness = quantum_catches(irradiance, (overall / overall.sum())[:, None], wl)[:, 0]
     write_table(responses_csv, {"id": table["id"], "side": table["side"],
@@ -279,14 +286,11 @@ def human_view(scene_file, png, exr, *, spectral, samples_per_pixel, depth, seed
     scene = load_scene(scene_file, wl)
     origin, dirs = camera.pinhole_rays(scene.camera, samples_per_pixel, seed)
     rs = raycasting_scene(scene)
-    n = len(dirs)
-    chunk = max(1, batch_rays // samples_per_pixel)
-    xyz = np.empty((n, 3))
-    weights = np.ones((min(chunk, n), samples_per_pixel))
-    for lo in range(0, n, chunk):
-        hi = min(n, lo + chunk)
-        radiance = trace_paths(scene, np.broadcast_to(origin, (hi - lo, 3)), dirs[lo:hi], weights[: hi - lo],
-                               depth=depth, seed=seed, first_stream=lo, rs=rs)
+    xyz = np.empty((len(dirs), 3))
+    for lo, hi in _chunks(0, len(dirs), batch_rays, samples_per_pixel):
+        radiance = trace_paths(scene, np.broadcast_to(origin, (hi - lo, 3)), dirs[lo:hi],
+                               np.ones((hi - lo, samples_per_pixel)), depth=depth, seed=seed,
+                               first_stream=lo, rs=rs)
         xyz[lo:hi] = camera.tristimulus(wl, radiance)
     shape = (scene.camera["height_px"], scene.camera["width_px"], 3)
     write_png(png, camera.srgb(xyz, np.percentile(xyz[:, 1], 99.0)).reshape(shape))
@@ -316,6 +320,7 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
     for k, name in enumerate(("channel_uv", "channel_b", "channel_g")):
         write_png(outputs[name], _display(voronoi(can, xy, table["side"], q[:, k]), scale)[..., 0])
     xyz = camera.tristimulus(data["wavelength_nm"], data["radiance"])
-    srgb = colour.XYZ_to_sRGB(xyz / np.percentile(xyz[:, 1], 99.5), apply_cctf_encoding=False)
-    write_png(outputs["voronoi_map2"], _display(voronoi(can, xy, table["side"], np.clip(srgb, 0, None)), 1.0))
+    # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
+    srgb = camera.srgb(xyz, np.percentile(xyz[:, 1], 99.5))
+    write_png(outputs["voronoi_map2"], np.nan_to_num(voronoi(can, xy, table["side"], srgb), nan=0.0))
     write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table["side"], q), nan=0.0), RECEPTORS)

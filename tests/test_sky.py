@@ -75,3 +75,10 @@ def test_uniform_sky_is_the_same_everywhere(wavelengths):
     dirs = np.random.default_rng(0).normal(size=(20, 3))
     dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
     np.testing.assert_allclose(radiance(sky, dirs), np.tile(l, (20, 1)))
+
+
+def test_a_uniform_hemisphere_of_unit_radiance_gives_pi_on_a_horizontal_surface(wavelengths):
+    from beeoptics.sky import horizontal_irradiance, uniform_sky
+
+    sky = uniform_sky(np.ones(len(wavelengths)), hemisphere=True)
+    np.testing.assert_allclose(horizontal_irradiance(sky, None, len(wavelengths)), np.pi, rtol=1e-12)

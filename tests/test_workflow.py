@@ -125,7 +125,7 @@ def test_a_trace_split_into_parts_is_bit_identical(workdir):
     config["trace"]["parts"] = 3
     config["scenes"] = ["flower"]
     (split / "config.yaml").write_text(yaml.safe_dump(config))
-    result = run(split, "results/tiny/open/irradiance.npz", "results/tiny/open/responses.csv")
+    result = run(split, "results/tiny/flower/irradiance.npz", "results/tiny/flower/responses.csv")
     assert result.returncode == 0, result.stderr[-3000:]
     assert len(list((split / "results" / "tiny" / "flower" / "parts").glob("radiance_*_of_3.npz"))) == 3
     assert (split / "results" / "tiny" / "flower" / "irradiance.npz").read_bytes() == one
