@@ -26,6 +26,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/eyes.smk"
 include: "workflow/rules/trace.smk"
 include: "workflow/rules/images.smk"
+include: "workflow/rules/sweeps.smk"
 
 
 rule all:

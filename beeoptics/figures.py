@@ -79,3 +79,126 @@ def eye_map(points, values, boundary_xy, path, label, title):
     fig.colorbar(field, ax=ax, label=label)
     ax.set_title(title, fontsize=10)
     save(fig, path)
+
+
+def sensitivities(wavelengths, receptors, overall, path):
+    """Collins Fig. 6 and Fig. 5a: the receptor curves and the overall sensitivity S(λ).
+
+    Parameters
+    ----------
+    wavelengths : ndarray (n,)
+        nm.
+    receptors : ndarray (n, 3)
+        S_UV, S_B, S_G, drawn each with its peak at one.
+    overall : ndarray (n,)
+        S(λ), drawn on a log axis as von Helversen (1972) plots it.
+    """
+    fig, (left, right) = plt.subplots(1, 2, figsize=(9.0, 3.6), constrained_layout=True)
+    for k, (name, colour) in enumerate(zip(("UV", "B", "G"), ("tab:purple", "tab:blue", "tab:green"))):
+        left.plot(wavelengths, receptors[:, k] / receptors[:, k].max(), color=colour, label=f"S$_{{{name}}}$")
+    left.set(xlabel="wavelength, nm", ylabel="relative sensitivity",
+             title="receptor sensitivities (Fig. 6)\nGovardovskii A1, λmax 344/436/544 nm")
+    left.legend(frameon=False)
+    right.semilogy(wavelengths, overall, color="k")
+    right.set(xlabel="wavelength, nm", ylabel="S(λ), relative",
+              title="overall sensitivity (Fig. 5a)\npeaks 16 : 2.7 : 1 (von Helversen 1972)")
+    for ax in (left, right):
+        ax.set_xlim(wavelengths[0], wavelengths[-1])
+    save(fig, path)
+
+
+def acceptance(theta_deg, curves, delta_phi_deg, path, eye_name=""):
+    """Receptor acceptance functions A(θ), with the interommatidial angle marked.
+
+    Parameters
+    ----------
+    theta_deg : ndarray (n,)
+        Angle from the optical axis, degrees.
+    curves : dict of str to ndarray (n,)
+        Label to A(θ).
+    delta_phi_deg : float
+        The eye's median Δφ: where a neighbour's axis lies.
+    """
+    fig, ax = plt.subplots(figsize=(5.2, 3.6), constrained_layout=True)
+    for label, a in curves.items():
+        ax.plot(theta_deg, a, label=label)
+    ax.axhline(0.5, color="0.7", linewidth=0.6)
+    ax.axvline(delta_phi_deg, color="0.4", linestyle="--", linewidth=0.8)
+    ax.annotate(f"median Δφ {delta_phi_deg:.2f}°", (delta_phi_deg, 0.9), xytext=(4, 0),
+                textcoords="offset points", fontsize=8)
+    ax.set(xlabel="angle from the optical axis θ, °", ylabel="A(θ)", ylim=(0, 1.02),
+           title=f"{eye_name}: acceptance function, A = exp(−2.77 θ²/Δρ²) (Snyder 1977)")
+    ax.title.set_fontsize(9)
+    ax.legend(frameon=False, fontsize=8)
+    save(fig, path)
+
+
+def colour_space(points, colours, outline, locus, path, title, labels=("UV", "B", "G")):
+    """Receptor colours in a bee colour space (Collins Fig. 5b), with the spectral locus.
+
+    Parameters
+    ----------
+    points : ndarray (n, 2)
+        Coordinates of each receptor's colour.
+    colours : ndarray (n, 3)
+        sRGB in [0, 1] to draw each point with.
+    outline : ndarray (k, 2)
+        Vertices of the space's outline (triangle or hexagon), UV first.
+    locus : SpectralLocus-like (wavelengths, xy)
+        Monochromatic lights, drawn as a line with every 50 nm labelled.
+    labels : sequence of str
+        Names of the receptor vertices, in the order of the first outline vertices.
+    """
+    wl, xy = locus
+    fig, ax = plt.subplots(figsize=(5.0, 5.0), constrained_layout=True)
+    ax.plot(*np.vstack([outline, outline[:1]]).T, color="0.5", linewidth=0.8)
+    step = max(1, len(outline) // len(labels))
+    for k, name in enumerate(labels):
+        ax.annotate(name, outline[k * step], xytext=(6 * np.sign(outline[k * step][0] or 1), 4),
+                    textcoords="offset points", fontsize=9, color="0.3")
+    ax.plot(*xy.T, color="k", linewidth=0.8)
+    for w, p in zip(wl, xy):
+        if w % 50 == 0:
+            ax.plot(*p, ".", color="k", markersize=3)
+            ax.annotate(f"{w:g}", p, xytext=(3, 3), textcoords="offset points", fontsize=7)
+    ax.scatter(*points.T, c=np.clip(colours, 0, 1), s=4, linewidths=0, alpha=0.7)
+    ax.plot(0, 0, "+", color="0.3")
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    save(fig, path)
+
+
+def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):
+    """Equirectangular maps of the bee's visual field beside the human view of the same scene.
+
+    Parameters
+    ----------
+    panels : dict of str to ndarray (h, w, 3)
+        Title to display-ready RGB map, NaN where no receptor sees.
+    eyes : ndarray (h, w)
+        Bits of the eyes that see each direction; the binocular overlap
+        (both bits) is outlined.
+    azimuth_deg, elevation_deg : ndarray
+        Pixel centres.
+    human : ndarray (H, W, 3) or None
+        The human pinhole render.
+    """
+    n = len(panels) + (human is not None)
+    fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 3.3), constrained_layout=True)
+    box = (azimuth_deg[0], azimuth_deg[-1], elevation_deg[-1], elevation_deg[0])
+    for ax, (name, rgb) in zip(axes, panels.items()):
+        ax.imshow(np.nan_to_num(rgb, nan=0.35), extent=box, interpolation="nearest")
+        ax.contour(azimuth_deg, elevation_deg, (eyes == 3).astype(float), levels=[0.5],
+                   colors="w", linewidths=0.8)
+        ax.set(xlim=(180, -180), ylim=(-90, 90), xticks=range(-180, 181, 60), yticks=range(-90, 91, 30),
+               xlabel="azimuth, ° (+ to the bee's left)", ylabel="elevation, °")
+        ax.set_title(name, fontsize=9)
+        ax.grid(color="0.6", linewidth=0.3)
+    if human is not None:
+        axes[-1].imshow(human)
+        axes[-1].set_axis_off()
+        axes[-1].set_title("human view (CIE 1931, sRGB)", fontsize=9)
+    fig.suptitle(title + " — white outline: binocular overlap; grey: not seen", fontsize=10)
+    save(fig, path)

@@ -47,7 +47,7 @@ def heat_distances(vertices, faces, sources):
     )
 
 
-def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, widen=True):
+def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, widen=2):
     """Exact geodesic distance between pairs of nearby points on a mesh.
 
     Each pair gets its own patch: the faces whose centroids lie within
@@ -56,9 +56,9 @@ def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, wid
     MMP run measures every pair at once. For points a few facets apart on a
     smooth eye, the geodesic strays from the segment by far less than a
     triangle, so the patch holds it. A pair whose distance comes out much
-    longer than its chord is measured once more on a patch four times as
-    wide: its path may have been cut off by the patch's edge, or it may
-    truly bend round a notch in the rim of the mesh.
+    longer than its chord, or not reached, is measured again on a patch four
+    times as wide: its path may have been cut off by the patch's edge, or it
+    may truly bend round a notch in the rim of the mesh.
 
     Parameters
     ----------
@@ -74,8 +74,9 @@ def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, wid
         Half-width of each patch; by default the median edge length, which
         holds the faces the segment crosses (their centroids lie within
         about two thirds of a triangle's height of it).
-    widen : bool
-        Whether to measure suspiciously long pairs again on wider patches.
+    widen : int
+        How many times a pair measured too long, or not at all, is measured
+        again on a patch four times as wide.
 
     Returns
     -------
@@ -141,10 +142,14 @@ def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, wid
     patch_f = np.vstack([patch_f[keep], fans])
 
     out[todo] = igl.exact_geodesic(patch_v, patch_f, src, _NO_INDEX, dst, _NO_INDEX)
-    # On a smooth surface a geodesic this short exceeds its chord by ~1e-4.
-    lost = todo[~(out[todo] < _DETOUR * length)]
-    if widen and lost.size:
-        out[lost] = pair_distances(vertices, faces, points, point_faces, pairs[lost], 4.0 * margin, widen=False)
+    # On a smooth surface a geodesic this short exceeds its chord by ~1e-4. One
+    # shorter than its chord never reached its end: near a notch in the rim the
+    # segment leaves the mesh and cuts the patch in two, and MMP then gives 0.
+    lost = todo[~((out[todo] >= (1.0 - 1e-6) * length) & (out[todo] < _DETOUR * length))]
+    if lost.size and widen > 0:
+        out[lost] = pair_distances(vertices, faces, points, point_faces, pairs[lost], 4.0 * margin, widen - 1)
+    elif lost.size and (out[lost] < (1.0 - 1e-6) * length[np.searchsorted(todo, lost)]).any():
+        raise RuntimeError(f"{lost.size} geodesics could not be measured on patches {margin:.3g} wide")
     return out
 
 

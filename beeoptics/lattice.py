@@ -80,8 +80,7 @@ def project_grid(query, count, max_offsets=64):
     scene.add_triangles(o3d.core.Tensor(v.astype(np.float32)), o3d.core.Tensor(f.astype(np.uint32)))
     lo, hi = v[:, :2].min(0), v[:, :2].max(0)
     top = v[:, 2].max() + 1.0
-    e = v[f]
-    projected_area = 0.5 * np.abs(np.cross(e[:, 1, :2] - e[:, 0, :2], e[:, 2, :2] - e[:, 0, :2])).sum()
+    projected_area = 0.5 * igl.doublearea(v * [1.0, 1.0, 0.0], f).sum()
     pitch0 = np.sqrt(projected_area / (np.sqrt(3.0) / 2.0 * count))
     golden = (np.sqrt(5.0) - 1.0) / 2.0
     best = None

@@ -77,9 +77,26 @@ def _lengths(points, pairs):
     return np.linalg.norm(points[pairs[:, 1]] - points[pairs[:, 0]], axis=1)
 
 
-def _geodesic_ratio(query, points, faces, pairs):
-    """Geodesic over straight length of each pair, measured exactly on the mesh."""
-    return pair_distances(query.vertices, query.faces, points, faces, pairs) / _lengths(points, pairs)
+def _geodesic_ratio(query, points, faces, pairs, known=None):
+    """Geodesic over straight length of each pair, measured exactly on the mesh.
+
+    ``known`` holds the sorted pair keys and ratios of an earlier call; only
+    pairs not among them are measured. A pair's ratio (1 + κ²L²/24 on a
+    surface of curvature κ) hardly changes as its ends move by a fraction
+    of a facet, so a rebuilt pair list needs only its new springs measured.
+    Returns the ratios and the updated ``known``.
+    """
+    keys = pairs[:, 0] * (len(points) + 1) + pairs[:, 1]
+    old_keys, old_ratio = known if known is not None else (np.empty(0, np.int64), np.empty(0))
+    at = np.minimum(np.searchsorted(old_keys, keys), max(len(old_keys) - 1, 0))
+    seen = old_keys[at] == keys if len(old_keys) else np.zeros(len(keys), bool)
+    ratio = np.empty(len(pairs))
+    ratio[seen] = old_ratio[at[seen]]
+    new = pairs[~seen]
+    ratio[~seen] = pair_distances(query.vertices, query.faces, points, faces, new) / _lengths(points, new)
+    all_keys = np.concatenate([old_keys, keys[~seen]])
+    order = np.argsort(all_keys)
+    return ratio, (all_keys[order], np.concatenate([old_ratio, ratio[~seen]])[order])
 
 
 def _near_pairs(points, target):
@@ -159,7 +176,7 @@ def relax(
             rest_min = SQUEEZE * fill * target.min()
             built_at, drift = points.copy(), 0.0
             if ratio is not None:
-                ratio = _geodesic_ratio(query, points, faces, springs)
+                ratio, known = _geodesic_ratio(query, points, faces, springs, known)
         delta = points[springs[:, 1]] - points[springs[:, 0]]
         chord = np.sqrt((delta**2).sum(1))
         lengths = chord if ratio is None else chord * ratio
@@ -207,7 +224,7 @@ def relax(
             if ratio is not None:
                 break
             # Still under chords: from here on springs are measured along the surface.
-            ratio = _geodesic_ratio(query, points, faces, springs)
+            ratio, known = _geodesic_ratio(query, points, faces, springs)
             velocity[:] = 0.0
             dt, mix, calm = 1.0, FIRE_MIX, 0
     else:

@@ -108,6 +108,6 @@ def density(can, xy, sides, values, normalise):
         inside = Delaunay(xy[mine]).find_simplex(can.xy[:, cols].reshape(-1, 2)).reshape(h, -1) >= 0
         for k in range(values.shape[1]):
             sums = gaussian_filter(np.bincount(flat, values[mine, k], h * len(cols)).reshape(h, -1), sigma)
-            layer = sums / count if normalise else sums
+            layer = np.divide(sums, count, out=np.full_like(sums, np.nan), where=count > 0) if normalise else sums
             out[:, cols, k] = np.where(inside, layer, np.nan)
     return out

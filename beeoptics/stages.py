@@ -14,15 +14,15 @@ import colour
 import igl
 import numpy as np
 
-from beeoptics import camera, colourspace, figures, optics
+from beeoptics import camera, colourspace, figures, optics, visualfield
 from beeoptics import sky as skies
 from beeoptics.errors import InputError
-from beeoptics.catches import acceptance_solid_angle, quantum_catches
-from beeoptics.imagefile import write_exr, write_png
+from beeoptics.catches import acceptance_solid_angle, photon_flux, quantum_catches
+from beeoptics.imagefile import read_image, write_exr, write_png
 from beeoptics.receptors import read_receptors
 from beeoptics.retina import canvas, density, retinal_plane, voronoi
 from beeoptics.scene import load_scene, raycasting_scene, receptors_in_world
-from beeoptics.sensitivity import RECEPTORS, overall_sensitivity, receptor_sensitivities
+from beeoptics.sensitivity import LAMBDA_MAX_APIS, RECEPTORS, overall_sensitivity, receptor_sensitivities
 from beeoptics.spectra import grid
 from beeoptics.table import read_table, write_table
 from beeoptics.trace import trace_paths
@@ -159,12 +159,20 @@ def place_facets(eye_file, remeshed_ply, receptors_csv, quality_json, relaxation
         )
 
 
-def eye_figures(eye_file, relaxation_npz, outputs):
-    """Stage 2b: Collins' Fig. 7 for one eye, and maps of its Δφ and facet diameters.
+def eye_figures(eye_file, relaxation_npz, receptors_csv, outputs):
+    """Stage 2b: Collins' Fig. 7 for one eye, maps of its Δφ and facet diameters, its acceptance.
 
-    ``outputs`` maps ``relaxation``, ``delta_phi`` and ``facet_diameter`` to PNG paths.
+    ``outputs`` maps ``relaxation``, ``delta_phi``, ``facet_diameter`` and
+    ``acceptance`` to PNG paths. The acceptance figure draws A(θ) at the 5th,
+    50th and 95th percentiles of the eye's Δρ, against its median Δφ.
     """
     eye = load_eye(eye_file)
+    table = read_receptors(receptors_csv)
+    theta = np.linspace(0.0, 5.0, 501)
+    levels = dict(zip(("5th percentile", "median", "95th percentile"),
+                      np.percentile(table["delta_rho_deg"], [5, 50, 95])))
+    curves = {f"Δρ {v:.2f}° ({k})": optics.acceptance(np.radians(theta), np.radians(v)) for k, v in levels.items()}
+    figures.acceptance(theta, curves, float(np.median(table["delta_phi_deg"])), outputs["acceptance"], eye["name"])
     data = np.load(relaxation_npz)
     rest, rim = data["snapshots"][-1], data["boundary_xy"]
     figures.relaxation(data["snapshots"], data["iterations"], data["snapshot_diameter_um"], rim,
@@ -187,16 +195,17 @@ def _chunks(first, last, batch_rays, samples):
 
 
 def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_receptor, depth, seed,
-               batch_rays, part=0, parts=1, progress=None):
+               batch_rays, part=0, parts=1, light=None, progress=None):
     """Stage 3: trace the acceptance cones of one share of the receptors through a scene.
 
     Receptors are split into ``parts`` contiguous shares, for running on
     several machines; every receptor draws the same random numbers in any
     share, so the gathered result is bit-identical to a single part's.
     Writes the share's receptor ids and spectral radiance; returns the ray counts.
+    ``light`` overrides the scene's light section (sweeps).
     """
     wl = wavelengths(spectral)
-    scene = load_scene(scene_file, wl)
+    scene = load_scene(scene_file, wl, light)
     table = read_receptors(receptors_csv)
     origins, axes = receptors_in_world(scene, table["position"], table["axis"])
     drho = table["delta_rho_deg"]
@@ -220,7 +229,7 @@ def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_rec
 
 
 def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradiance_npz, *, spectral,
-                     background="scene"):
+                     background="scene", light=None):
     """Stage 3, gathered: catches and colour-space coordinates of every receptor.
 
     Parameters
@@ -231,6 +240,8 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
         The adapting background of von Kries adaptation: ``"scene"``, the
         mean catch over both eyes, or the name of one of the scene's
         materials, as a Lambertian surface under the scene's sky and sun.
+    light : dict, optional
+        Overrides of the scene's light section, as the trace had them.
     """
     wl = wavelengths(spectral)
     table = read_receptors(receptors_csv)
@@ -245,15 +256,17 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
     catches = quantum_catches(irradiance, sens, wl)
     # Adaptation compares radiances: the acceptance solid angle cancels in every ratio.
     seen = quantum_catches(radiance, sens, wl)
+    scene = load_scene(scene_file, wl, light)
+    # A white Lambertian surface under the scene's sky and sun: what a named
+    # background reflects, and the photon flux of the spectral locus's lights.
+    white = skies.horizontal_irradiance(scene.sky, scene.sun, len(wl)) / np.pi
     if background == "scene":
         reference = seen.mean(axis=0)
     else:
-        scene = load_scene(scene_file, wl)
         if background not in scene.material_names:
             raise InputError(scene_file, "materials", f"no material {background!r} to adapt to (colour.background)")
         rho = scene.reflectance[scene.material_names.index(background)]
-        lambertian = rho * skies.horizontal_irradiance(scene.sky, scene.sun, len(wl)) / np.pi
-        reference = quantum_catches(lambertian[None], sens, wl)[0]
+        reference = quantum_catches((rho * white)[None], sens, wl)[0]
     if not (reference > 0.0).all():
         raise InputError(scene_file, "colour.background",
                          f"the background {background!r} gives no catch in some receptor class; "
@@ -266,7 +279,8 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
                                 **colourspace.describe(seen, reference)})
     with atomic_path(irradiance_npz) as tmp:
         np.savez_compressed(tmp, id=table["id"], wavelength_nm=wl, radiance=radiance.astype(np.float32),
-                            irradiance=irradiance.astype(np.float32))
+                            irradiance=irradiance.astype(np.float32), background_q=reference,
+                            white_radiance=white)
 
 
 def _display(linear, scale):
@@ -302,6 +316,28 @@ def map3(uv, b, g):
     return np.stack([uv, g, b], -1)
 
 
+def _bee_colours(q, irradiance):
+    """map3 colours and their exposure, and map2's display sRGB, of each receptor.
+
+    One exposure for all three channels keeps their relative responses.
+    """
+    xyz = camera.tristimulus(irradiance["wavelength_nm"], irradiance["radiance"])
+    return map3(q[:, 0], q[:, 1], q[:, 2]), np.percentile(q, 99.5), camera.srgb(xyz, np.percentile(xyz[:, 1], 99.5))
+
+
+#: The images :func:`retinal_images` writes for one eye in one scene: output name, file name.
+IMAGES = {
+    "voronoi_map3": "voronoi_map3.png",
+    "voronoi_map2": "voronoi_map2.png",
+    "density_map3": "density_map3.png",
+    "density_map3_normalised": "density_map3_normalised.png",
+    "channel_uv": "channel_uv.png",
+    "channel_b": "channel_b.png",
+    "channel_g": "channel_g.png",
+    "exr": "catches.exr",
+}
+
+
 def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, width_px=400):
     """Stage 4: Voronoi, density and channel images of one eye in one scene, and the EXR of catches."""
     eye = load_eye(eye_file)
@@ -311,16 +347,153 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
     data = np.load(irradiance_npz)
     xy = retinal_plane(eye, table["position"], table["side"])
     can = canvas(xy, width_px)
-    # One exposure for all three channels keeps their relative responses.
-    scale = np.percentile(q, 99.5)
-    colours = map3(q[:, 0], q[:, 1], q[:, 2])
+    colours, scale, srgb = _bee_colours(q, data)
     write_png(outputs["voronoi_map3"], _display(voronoi(can, xy, table["side"], colours), scale))
     dens = density(can, xy, table["side"], colours, normalise=False)
     write_png(outputs["density_map3"], _display(dens, np.nanpercentile(dens, 99.5)))
+    write_png(outputs["density_map3_normalised"],
+              _display(density(can, xy, table["side"], colours, normalise=True), scale))
     for k, name in enumerate(("channel_uv", "channel_b", "channel_g")):
         write_png(outputs[name], _display(voronoi(can, xy, table["side"], q[:, k]), scale)[..., 0])
-    xyz = camera.tristimulus(data["wavelength_nm"], data["radiance"])
     # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
-    srgb = camera.srgb(xyz, np.percentile(xyz[:, 1], 99.5))
     write_png(outputs["voronoi_map2"], np.nan_to_num(voronoi(can, xy, table["side"], srgb), nan=0.0))
     write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table["side"], q), nan=0.0), RECEPTORS)
+
+
+def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, outputs, width_px=720):
+    """Stage 4b: both eyes' visual field in azimuth and elevation, beside the human view.
+
+    Writes ``figure`` (PNG: map3 and map2 on the sphere, the binocular
+    overlap outlined, the human render beside them) and ``exr``
+    (equirectangular catches ``UV``, ``B``, ``G`` and ``eyes``, the bits of
+    the eyes that see each direction: 1 right, 2 left, 3 both; zero catches
+    where none sees).
+    """
+    table = read_receptors(receptors_csv)
+    resp = read_table(responses_csv, numeric=["id", *RECEPTORS], text=["side"])
+    q = np.column_stack([resp[r] for r in RECEPTORS])
+    colours, scale, srgb = _bee_colours(q, np.load(irradiance_npz))
+    field = visualfield.visual_field(table["axis"], table["side"], table["delta_rho_deg"],
+                                     table["delta_phi_deg"], width_px)
+    seen = field.receptor >= 0
+    panels = {
+        "bee colours (map3: UV→R, B→B, G→G)": np.where(seen[..., None], _display(visualfield.paint(field, colours), scale), np.nan),
+        "human colours on the bee's geometry (map2)": visualfield.paint(field, srgb),
+    }
+    figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, read_image(human_png)[0][..., :3],
+                         outputs["figure"], "visual field of both eyes, equirectangular")
+    catches = np.nan_to_num(visualfield.paint(field, q), nan=0.0)
+    write_exr(outputs["exr"], np.concatenate([catches, field.eyes[..., None].astype(float)], -1),
+              (*RECEPTORS, "eyes"))
+
+
+def colour_figures(responses_csv, irradiance_npz, outputs, title=""):
+    """Stage 4c: every receptor's colour in the bee colour triangle and hexagon (Collins Fig. 5b).
+
+    The spectral locus is isoquantal, as the lights of bee colour-vision
+    experiments are (von Helversen 1972): each monochromatic light carries
+    the whole photon flux of a white Lambertian surface under the scene's sky
+    and sun, and is adapted to the same background as the receptors.
+    ``outputs`` maps ``triangle`` and ``hexagon`` to PNG paths.
+    """
+    resp = read_table(responses_csv, numeric=["id", "tri_x", "tri_y", "hex_x", "hex_y", *RECEPTORS], text=["side"])
+    data = np.load(irradiance_npz)
+    wl = data["wavelength_nm"]
+    q = np.column_stack([resp[r] for r in RECEPTORS])
+    srgb = _bee_colours(q, data)[2]
+    white = photon_flux(data["white_radiance"], wl).sum()
+    locus = colourspace.spectral_locus(receptor_sensitivities(wl), wl, data["background_q"], white)
+    hexagon_outline = np.array([colourspace.HEXAGON_VERTICES[0], colourspace.HEXAGON_VERTICES[:2].sum(0),
+                                colourspace.HEXAGON_VERTICES[1], colourspace.HEXAGON_VERTICES[1:].sum(0),
+                                colourspace.HEXAGON_VERTICES[2], colourspace.HEXAGON_VERTICES[[0, 2]].sum(0)])
+    figures.colour_space(np.column_stack([resp["tri_x"], resp["tri_y"]]), srgb, colourspace.TRIANGLE_VERTICES,
+                         (locus.wavelengths, locus.triangle), outputs["triangle"],
+                         f"{title}: receptor colours in the bee colour triangle")
+    figures.colour_space(np.column_stack([resp["hex_x"], resp["hex_y"]]), srgb, hexagon_outline,
+                         (locus.wavelengths, locus.hexagon), outputs["hexagon"],
+                         f"{title}: receptor colours in the colour hexagon (Chittka 1992)")
+
+
+def sensitivity_figure(spectral, path):
+    """Collins Fig. 6 and 5a: the receptor sensitivities and the overall S(λ), on the config's grid."""
+    wl = wavelengths(spectral)
+    sens = receptor_sensitivities(wl)
+    figures.sensitivities(wl, sens, overall_sensitivity(wl, sens), path)
+
+
+#: Peak wavelengths at which the Rayleigh limit is given, nm (Peitsch et al. 1992).
+RAYLEIGH_NM = dict(zip(RECEPTORS, LAMBDA_MAX_APIS))
+
+
+def acuity_table(receptors_csvs, path, width_px=720):
+    """Acuity figures of each eye, one row per eye class (both eyes together).
+
+    Columns: receptor count; percentiles 5/50/95 of Δφ and Δρ (°); the
+    highest spatial frequency the lattice resolves, f_max = 1/(2Δφ)
+    (cycles/°, Nyquist; Snyder 1977) at the median and 5th-percentile Δφ;
+    median facet diameter D (µm); the Rayleigh limit 1.22 λ/D (°) at each
+    receptor's λmax for the median and largest facet; the solid angle each
+    eye sees and the binocular overlap (sr, at half sensitivity, see
+    :mod:`beeoptics.visualfield`).
+
+    Parameters
+    ----------
+    receptors_csvs : dict of str to path
+        Eye class to its receptor table.
+    """
+    rows = {}
+    for name, csv in receptors_csvs.items():
+        t = read_receptors(csv)
+        dphi, drho, d_um = t["delta_phi_deg"], t["delta_rho_deg"], t["facet_diameter_um"]
+        row = {"eye": name, "receptors": len(dphi)}
+        for label, values in (("delta_phi_deg", dphi), ("delta_rho_deg", drho)):
+            row.update({f"{label}_p{p}": np.percentile(values, p) for p in (5, 50, 95)})
+        row["f_max_cpd_median"] = 1.0 / (2.0 * np.median(dphi))
+        row["f_max_cpd_p5"] = 1.0 / (2.0 * np.percentile(dphi, 5))
+        row["facet_diameter_um_median"] = np.median(d_um)
+        for receptor, lam in RAYLEIGH_NM.items():
+            for label, d in (("median", np.median(d_um)), ("largest", d_um.max())):
+                row[f"rayleigh_deg_{receptor}_{label}_facet"] = np.degrees(1.22 * lam * 1e-9 / (d * 1e-6))
+        field = visualfield.visual_field(t["axis"], t["side"], drho, dphi, width_px)
+        extent = visualfield.extent(field)
+        row.update({k: extent[k] for k in ("right_sr", "left_sr", "binocular_sr", "total_fraction")})
+        for k, v in row.items():
+            rows.setdefault(k, []).append(v)
+    write_table(path, {k: np.asarray(v) if k != "eye" else v for k, v in rows.items()})
+
+
+def with_delta_rho(receptors_csv, out_csv, delta_rho_deg=None):
+    """A receptor table whose every receptor has acceptance angle ``delta_rho_deg`` (a copy if None)."""
+    table = read_receptors(receptors_csv)
+    if delta_rho_deg is not None:
+        table["delta_rho_deg"] = np.full(len(table["id"]), float(delta_rho_deg))
+    write_receptors(out_csv, table)
+
+
+#: Columns of responses.csv summarised per sweep variant, eye and scene.
+SUMMARISED = ("UV", "B", "G", "brightness", "hex_r", "rnl_dS")
+
+
+def sweep_summary(runs, path):
+    """One row per sweep variant, eye and scene: its parameters and its receptors' responses.
+
+    Parameters
+    ----------
+    runs : list of dict
+        ``variant``, ``eye``, ``scene``, ``responses`` (path) and the
+        variant's parameter values, in the order the rows are written.
+
+    The responses are summarised by their mean and their 5th, 50th and 95th
+    percentiles over both eyes' receptors.
+    """
+    rows = []
+    for run in runs:
+        resp = read_table(run["responses"], numeric=list(SUMMARISED), text=["side"])
+        row = {k: v for k, v in run.items() if k != "responses"}
+        for name in SUMMARISED:
+            row[f"{name}_mean"] = np.mean(resp[name])
+            row.update({f"{name}_p{p}": np.percentile(resp[name], p) for p in (5, 50, 95)})
+        rows.append(row)
+    text = ("variant", "eye", "scene")
+    write_table(path, {k: [r[k] for r in rows] if k in text else np.array([r[k] for r in rows], float)
+                       for k in rows[0]})

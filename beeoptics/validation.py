@@ -122,8 +122,8 @@ def validate_config(config, schema_path, source="config", folders=True):
     The same check as the packaged schemas get: the first violation of
     ``schema_path`` (``workflow/schemas/config.schema.yaml``) as one line
     naming ``source`` and the dotted key, with a suggestion for a misspelt
-    key; then, with ``folders``, that every eye class and scene named has
-    its folder, so that a typo stops the run before any job starts.
+    key; then, with ``folders``, that every eye class and scene named, in
+    the run or in a sweep, has its folder, so that a typo stops the run before any job starts.
     Relative folders are taken from the working directory, as the rules take them.
 
     Parameters
@@ -142,11 +142,14 @@ def validate_config(config, schema_path, source="config", folders=True):
     if folders:
         for key, (dir_key, filename) in CONFIG_FOLDERS.items():
             root = Path(config[dir_key])
-            for i, name in enumerate(config[key]):
+            named = [(f"{key}.{i}", n) for i, n in enumerate(config[key])]
+            named += [(f"sweeps.{s}.{key}.{i}", n) for s, sweep in config.get("sweeps", {}).items()
+                      for i, n in enumerate(sweep.get(key, []))]
+            for field, name in named:
                 if not (root / name / filename).is_file():
                     found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
                     raise InputError(
-                        source, f"{key}.{i}",
+                        source, field,
                         f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
                         f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
                     )

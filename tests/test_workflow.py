@@ -35,7 +35,9 @@ def workdir(tmp_path_factory):
         "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
         "spectral": {"start_nm": 300, "end_nm": 700, "step_nm": 10},
         "trace": {"samples_per_receptor": 16, "depth": 2, "seed": 3},
-        "images": {"width_px": 64},
+        "images": {"width_px": 64, "visual_field_width_px": 180},
+        "sweeps": {"demo": {"eyes": ["tiny"], "scenes": ["flower"], "delta_rho_deg": [1.5, 4.0],
+                            "sun_elevation_deg": [20, 70]}},
     }
     (work / "config.yaml").write_text(yaml.safe_dump(config))
     # The workflow's own files (config schema, report captions) are found beside its Snakefile.
@@ -47,11 +49,16 @@ def workdir(tmp_path_factory):
 def test_every_artifact_is_written(workdir):
     eye = workdir / "results" / "eyes" / "tiny"
     for name in ("remeshed.ply", "receptors.csv", "quality.json", "relaxation.npz",
-                 "figures/relaxation.png", "figures/delta_phi.png", "figures/facet_diameter.png"):
+                 "figures/relaxation.png", "figures/delta_phi.png", "figures/facet_diameter.png",
+                 "figures/acceptance.png"):
         assert (eye / name).stat().st_size > 0
+    for name in ("eyes/acuity.csv", "figures/sensitivities.png"):
+        assert (workdir / "results" / name).stat().st_size > 0
     for scene in ("open", "flower"):
         for name in ("responses.csv", "irradiance.npz", "voronoi_map3.png", "voronoi_map2.png",
-                     "density_map3.png", "channel_uv.png", "channel_b.png", "channel_g.png", "catches.exr"):
+                     "density_map3.png", "density_map3_normalised.png", "channel_uv.png", "channel_b.png",
+                     "channel_g.png", "catches.exr", "visual_field.png", "visual_field.exr", "triangle.png",
+                     "hexagon.png"):
             assert (workdir / "results" / "tiny" / scene / name).stat().st_size > 0
         for name in ("human.png", "human.exr"):
             assert (workdir / "results" / "scenes" / scene / name).stat().st_size > 0
@@ -130,3 +137,43 @@ def test_a_trace_split_into_parts_is_bit_identical(workdir):
     assert len(list((split / "results" / "tiny" / "flower" / "parts").glob("radiance_*_of_3.npz"))) == 3
     assert (split / "results" / "tiny" / "flower" / "irradiance.npz").read_bytes() == one
     assert (split / "results" / "tiny" / "flower" / "responses.csv").read_bytes() == responses
+
+
+def test_the_visual_field_exr_holds_the_catches_of_the_receptors_that_see(workdir):
+    pixels, names = read_image(workdir / "results" / "tiny" / "flower" / "visual_field.exr")
+    # EXR stores channels sorted by name; they are read back by name.
+    assert sorted(names) == sorted(["UV", "B", "G", "eyes"])
+    pixels = pixels[..., [names.index(k) for k in ("UV", "B", "G", "eyes")]]
+    resp = read_table(workdir / "results" / "tiny" / "flower" / "responses.csv", numeric=["UV", "B", "G"], text=["side"])
+    seen = pixels[..., 3] > 0
+    assert seen.any() and set(np.unique(pixels[..., 3])) <= {0.0, 1.0, 2.0, 3.0}
+    catches = np.column_stack([resp[k] for k in ("UV", "B", "G")]).astype(np.float32)
+    # Every seen pixel carries one receptor's catches, exactly.
+    got = {tuple(p) for p in pixels[seen][:, :3]}
+    assert got <= {tuple(c) for c in catches}
+    assert (pixels[~seen][:, :3] == 0).all()
+
+
+def test_the_report_builds_with_every_figure_captioned(workdir):
+    result = run(workdir, "--report", str(workdir / "report.html"))
+    assert result.returncode == 0, result.stderr[-3000:]
+    html = (workdir / "report.html").read_text()
+    for caption in ("binocular overlap", "Govardovskii", "Snyder", "colour hexagon", "Collins' Fig. 7",
+                    "Normalised density", "Rayleigh limit"):
+        assert caption in html, caption
+
+
+def test_a_sweep_traces_every_combination_and_tables_them(workdir):
+    sweep = workdir / "results" / "sweeps" / "demo"
+    rows = read_table(sweep / "summary.csv", numeric=["delta_rho_deg", "sun_elevation_deg", "brightness_mean"],
+                      text=["variant", "eye", "scene"])
+    assert list(rows["variant"]) == ["drho-1.5_sun-20", "drho-1.5_sun-70", "drho-4_sun-20", "drho-4_sun-70"]
+    assert list(rows["eye"]) == ["tiny"] * 4 and list(rows["scene"]) == ["flower"] * 4
+    np.testing.assert_array_equal(rows["delta_rho_deg"], [1.5, 1.5, 4.0, 4.0])
+    # A higher sun lights the flower and the ground more: every receptor class catches more.
+    b = rows["brightness_mean"]
+    assert b[1] > b[0] and b[3] > b[2]
+    for variant, drho in (("drho-1.5_sun-20", 1.5), ("drho-4_sun-70", 4.0)):
+        table = read_table(sweep / variant / "eyes" / "tiny" / "receptors.csv", numeric=["delta_rho_deg"])
+        assert (table["delta_rho_deg"] == drho).all()
+        assert (sweep / variant / "tiny" / "flower" / "responses.csv").stat().st_size > 0

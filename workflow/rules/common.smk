@@ -2,25 +2,21 @@
 
 from pathlib import Path
 
+from beeoptics import stages, sweeps
+
 EYES_DIR = Path(config["eyes_dir"])
 SCENES_DIR = Path(config["scenes_dir"])
 
-# Retinal-plane images written for every eye and scene.
-IMAGES = [
-    "voronoi_map3.png",
-    "voronoi_map2.png",
-    "density_map3.png",
-    "channel_uv.png",
-    "channel_b.png",
-    "channel_g.png",
-    "catches.exr",
-]
+# Images written for every eye and scene: the retinal plane's, the visual field's, the colour spaces'.
+IMAGES = [*stages.IMAGES.values(), "visual_field.png", "visual_field.exr", "triangle.png", "hexagon.png"]
 
 
 wildcard_constraints:
     eye="[A-Za-z0-9_-]+",
     scene="[A-Za-z0-9_-]+",
     part="[0-9]+",
+    sweep="[A-Za-z0-9_-]+",
+    variant="[A-Za-z0-9_.-]+",
     parts="[0-9]+",
 
 
@@ -52,8 +48,8 @@ def all_targets():
     figures = expand(
         "results/eyes/{eye}/figures/{name}.png",
         eye=config["eyes"],
-        name=["relaxation", "delta_phi", "facet_diameter"],
-    )
+        name=["relaxation", "delta_phi", "facet_diameter", "acceptance"],
+    ) + ["results/eyes/acuity.csv", "results/figures/sensitivities.png"]
     views = expand(
         "results/{eye}/{scene}/{name}",
         eye=config["eyes"],
@@ -61,4 +57,5 @@ def all_targets():
         name=["responses.csv", "irradiance.npz"] + IMAGES,
     )
     humans = expand("results/scenes/{scene}/human.{ext}", scene=config["scenes"], ext=["png", "exr"])
-    return eyes + figures + views + humans
+    summaries = expand("results/sweeps/{sweep}/summary.csv", sweep=list(config["sweeps"]))
+    return eyes + figures + views + humans + summaries

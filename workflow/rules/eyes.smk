@@ -42,13 +42,40 @@ rule eye_figures:
     input:
         sources=eye_sources,
         relaxation="results/eyes/{eye}/relaxation.npz",
+        receptors="results/eyes/{eye}/receptors.csv",
     output:
         relaxation=report("results/eyes/{eye}/figures/relaxation.png", caption="../report/relaxation.rst", category="Eyes", subcategory="{eye}"),
         delta_phi=report("results/eyes/{eye}/figures/delta_phi.png", caption="../report/delta_phi.rst", category="Eyes", subcategory="{eye}"),
         facet_diameter=report("results/eyes/{eye}/figures/facet_diameter.png", caption="../report/facet_diameter.rst", category="Eyes", subcategory="{eye}"),
+        acceptance=report("results/eyes/{eye}/figures/acceptance.png", caption="../report/acceptance.rst", category="Eyes", subcategory="{eye}"),
     params:
         eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
     log:
         "results/logs/eye_figures/{eye}.log",
     script:
         "../scripts/eye_figures.py"
+
+
+rule acuity:
+    input:
+        expand("results/eyes/{eye}/receptors.csv", eye=config["eyes"]),
+    output:
+        report("results/eyes/acuity.csv", caption="../report/acuity.rst", category="Eyes"),
+    params:
+        eyes=config["eyes"],
+        width_px=config["images"]["visual_field_width_px"],
+    log:
+        "results/logs/acuity.log",
+    script:
+        "../scripts/acuity.py"
+
+
+rule sensitivities:
+    output:
+        report("results/figures/sensitivities.png", caption="../report/sensitivities.rst", category="Receptors"),
+    params:
+        spectral=config["spectral"],
+    log:
+        "results/logs/sensitivities.log",
+    script:
+        "../scripts/sensitivities.py"

@@ -11,6 +11,7 @@ rule trace:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         trace=config["trace"],
+        light={},
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
     threads: workflow.cores
@@ -33,6 +34,7 @@ rule gather:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         background=config["colour"]["background"],
+        light={},
     log:
         "results/logs/gather/{eye}/{scene}.log",
     resources:

@@ -9,4 +9,5 @@ with stages.logging_to(snakemake.log[0]):
         snakemake.output.irradiance,
         spectral=snakemake.params.spectral,
         background=snakemake.params.background,
+        light=snakemake.params.light,
     )

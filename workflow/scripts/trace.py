@@ -13,4 +13,5 @@ with stages.logging_to(snakemake.log[0]):
         batch_rays=t["batch_rays"],
         part=int(snakemake.wildcards.part),
         parts=int(snakemake.wildcards.parts),
+        light=snakemake.params.light,
     )

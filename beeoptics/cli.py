@@ -1,0 +1,348 @@
+"""The command-line tool ``beeoptics``: the workflow's stages one at a time, outside Snakemake.
+
+Options the workflow's config also has default to ``workflow/schemas/config.schema.yaml``
+and are checked against it, so a one-off run equals a workflow run with the default
+config. Bad input ends a run with one line naming the file and the field, exit status
+2, and the output folder as it was.
+"""
+
+import argparse
+import os
+import shutil
+import sys
+import tempfile
+from contextlib import contextmanager
+from functools import cache, reduce
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from beeoptics import interchange, stages
+from beeoptics.errors import InputError
+from beeoptics.eyefile import load_eye, load_eye_mesh
+from beeoptics.headframe import SIDES
+from beeoptics.receptors import read_receptors, write_receptors
+from beeoptics.scene import load_scene
+from beeoptics.validation import load_yaml, validate, validate_config
+
+CONFIG_SCHEMA = Path(__file__).resolve().parents[1] / "workflow" / "schemas" / "config.schema.yaml"
+#: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
+SETTINGS = {
+    "build-eye": [
+        ("--edge-fraction", "eye.edge_fraction", float,
+         "remeshing edge length, as a fraction of the mean facet diameter of the eye's anchors"),
+        ("--tolerance-um", "eye.tolerance_um", float, "relax the facets until none would move further than this, µm"),
+        ("--delta-rho-model", "eye.delta_rho.model", str, "acceptance angle Δρ: 'fixed' (--delta-rho-deg "
+         "everywhere) or 'snyder' (from each facet's diameter and the eye's rhabdom width)"),
+        ("--delta-rho-deg", "eye.delta_rho.fixed_deg", float,
+         "Δρ of the fixed model, degrees (full width at half maximum)"),
+        ("--wavelength-nm", "eye.delta_rho.wavelength_nm", float,
+         "wavelength of the snyder model's diffraction term, nm"),
+    ],
+    "render": [
+        ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone"),
+        ("--depth", "trace.depth", int, "scattering events per path; 1 is direct light only"),
+        ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),
+        ("--batch-rays", "trace.batch_rays", int, "rays traced at once; bounds memory (about 200 bytes a ray)"),
+        ("--start-nm", "spectral.start_nm", float, "first wavelength of the spectral grid, nm"),
+        ("--end-nm", "spectral.end_nm", float, "last wavelength of the spectral grid, nm"),
+        ("--step-nm", "spectral.step_nm", float, "spacing of the spectral grid, nm"),
+        ("--background", "colour.background", str, "von Kries adapting background: 'scene' (the mean catch of all "
+         "receptors) or a material of the scene (a Lambertian surface under its sky and sun)"),
+        ("--width-px", "images.width_px", int, "width of each eye's panel in the retinal images, pixels"),
+    ],
+}
+FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud"}
+
+
+@cache
+def schema_defaults():
+    """The workflow config with every default filled in from its schema."""
+    if not CONFIG_SCHEMA.is_file():
+        raise InputError(CONFIG_SCHEMA, "", "no such file; the tool takes its defaults from the workflow's "
+                         "config schema, so install beeoptics from its repository (pip install -e)")
+    return validate_config({}, CONFIG_SCHEMA, folders=False)
+
+
+def settings(args):
+    """The config the options give, checked against the schema; an error names the option."""
+    config = {}
+    for option, key, _, _ in SETTINGS[args.command]:
+        *parents, leaf = key.split(".")
+        reduce(lambda node, part: node.setdefault(part, {}), parents, config)[leaf] = \
+            getattr(args, option[2:].replace("-", "_"))
+    try:
+        return validate_config(config, CONFIG_SCHEMA, source="command line", folders=False)
+    except InputError as e:
+        option = next((o for o, k, *_ in SETTINGS[args.command] if k == e.field), e.field)
+        raise InputError("command line", option, str(e).removeprefix(f"{e.path}: {e.field}: ")) from None
+
+
+@contextmanager
+def staged(outdir, names):
+    """A scratch folder inside ``outdir`` whose files ``names`` move into it only if the block succeeds.
+
+    Each stage writes its files atomically, but a run failing half-way would
+    still leave some files beside older ones; this leaves ``outdir`` as it was.
+    """
+    outdir = Path(outdir)
+    created = not outdir.exists()
+    outdir.mkdir(parents=True, exist_ok=True)
+    scratch = Path(tempfile.mkdtemp(prefix=".partial-", dir=outdir))
+    try:
+        yield scratch
+        for name in names:
+            os.replace(scratch / name, outdir / name)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+        if created and not any(outdir.iterdir()):
+            outdir.rmdir()
+
+
+def _bar(args, desc, unit):
+    # The delay keeps quick runs, and input refused before the work starts, free of bars.
+    return tqdm(desc=desc, unit=unit, delay=0.5, disable=args.quiet, file=sys.stderr, dynamic_ncols=True)
+
+
+def build_eye(args):
+    """Remesh an eye, place and relax its facets, and describe every receptor of both eyes."""
+    eye = settings(args)["eye"]
+    names = ["remeshed.ply", "receptors.csv", "quality.json", "relaxation.npz"] + ["receptors.ply"] * args.ply
+    with staged(args.output, names) as tmp:
+        stages.remesh_eye(args.eye, tmp / "remeshed.ply", edge_fraction=eye["edge_fraction"])
+        with _bar(args, "relaxing facets", " it") as bar:
+            def progress(iteration, largest_mm):
+                # The iterations needed are not known in advance: show how far from rest instead.
+                bar.set_postfix_str(f"largest move {largest_mm * 1e3:.3g} µm (stops below {eye['tolerance_um']:g})",
+                                    refresh=False)
+                bar.update(iteration + 1 - bar.n)
+            stages.place_facets(args.eye, tmp / "remeshed.ply", tmp / "receptors.csv", tmp / "quality.json",
+                                tmp / "relaxation.npz", tolerance_um=eye["tolerance_um"], delta_rho=eye["delta_rho"],
+                                progress=progress)
+        table = read_receptors(tmp / "receptors.csv")
+        if args.ply:
+            interchange.write_receptor_ply(tmp / "receptors.ply", table)
+    print(f"{args.output}: {len(table['id']) // 2} facets per eye; wrote {', '.join(names)}")
+
+
+def render(args):
+    """Trace an eye's receptors through a scene, gather their responses and draw the retinal images."""
+    config = settings(args)
+    trace, spectral, background = config["trace"], config["spectral"], config["colour"]["background"]
+    # Refused now rather than after a trace of minutes.
+    load_eye(args.eye)
+    if background != "scene" and background not in validate(load_yaml(args.scene), "scene", args.scene)["materials"]:
+        raise InputError(args.scene, "materials", f"no material {background!r} to adapt to (--background)")
+    names = ["responses.csv", "irradiance.npz", *stages.IMAGES.values()]
+    with staged(args.output, names) as tmp:
+        with _bar(args, "tracing", " receptors") as bar:
+            def progress(done, total):
+                bar.total = total
+                bar.update(done - bar.n)
+            stages.trace_part(args.receptors, args.scene, tmp / "radiance.npz", spectral=spectral,
+                              samples_per_receptor=trace["samples_per_receptor"], depth=trace["depth"],
+                              seed=trace["seed"], batch_rays=trace["batch_rays"], progress=progress)
+        stages.gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"], tmp / "responses.csv",
+                                tmp / "irradiance.npz", spectral=spectral, background=background)
+        stages.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+                              {key: tmp / name for key, name in stages.IMAGES.items()},
+                              width_px=config["images"]["width_px"])
+    print(f"{args.output}: wrote {', '.join(names)}")
+
+
+def _format(path):
+    suffix = Path(path).suffix.lower()
+    if suffix not in FORMATS:
+        raise InputError(path, "", f"unknown format {suffix!r}; use "
+                         + ", ".join(f"{s} ({name})" for s, name in FORMATS.items()))
+    return suffix
+
+
+def read_any(path, args):
+    """A receptor table from a ``.csv``, ``.eye`` or ``.ply`` file, with the options' conventions."""
+    kind = _format(path)
+    if kind == ".eye":
+        return interchange.read_compoundray_eye(path, side=args.side or "right", units=args.units, frame=args.frame,
+                                                acceptance=args.acceptance, delta_phi=args.delta_phi_deg,
+                                                facet_diameter_um=args.facet_diameter_um)
+    return read_receptors(path) if kind == ".csv" else interchange.read_receptor_ply(path)
+
+
+def convert(args):
+    """Convert a receptor table to another format, each chosen by the file's extension."""
+    kind = _format(args.output)
+    table = read_any(args.input, args)
+    side = None if kind != ".eye" or args.side == "auto" else args.side
+    try:
+        if kind == ".csv":
+            write_receptors(args.output, table)
+        elif kind == ".ply":
+            interchange.write_receptor_ply(args.output, table, quality=None if args.quality == "none" else args.quality)
+        else:
+            focal = table.get("focal_offset_mm", 0.0) if args.focal_offset_mm is None else args.focal_offset_mm
+            interchange.write_compoundray_eye(args.output, table, side=side, units=args.units, frame=args.frame,
+                                              acceptance=args.acceptance, focal_offset_mm=focal)
+    except InputError:
+        raise
+    except ValueError as e:
+        # The writers refuse what the table holds (a NaN, no receptor on a side): the input is at fault.
+        raise InputError(args.input, "", str(e)) from None
+    written = np.sum(np.asarray(table["side"]).astype(str) == side) if side else len(table["id"])
+    print(f"{args.output}: {written} receptors")
+
+
+def _stats(values):
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    if not v.size:
+        return "not given"
+    return f"min {v.min():.4g}, median {np.median(v):.4g}, mean {v.mean():.4g}, max {v.max():.4g}"
+
+
+def info(args):
+    """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye or .ply)."""
+    path = Path(args.path)
+    if path.suffix.lower() not in (".yaml", ".yml"):
+        t = read_any(path, args)
+        side = np.asarray(t["side"]).astype(str)
+        print(f"receptors: {len(side)} ({', '.join(f'{s} {np.sum(side == s)}' for s in SIDES)})")
+        for label, column in (("facet diameter, µm", "facet_diameter_um"), ("Δφ, degrees", "delta_phi_deg"),
+                              ("Δρ, degrees", "delta_rho_deg")):
+            print(f"{label}: {_stats(t[column])}")
+        return
+    data = load_yaml(path)
+    if isinstance(data, dict) and {"mesh", "placement", "facets", "facet_diameter"} & set(data):
+        eye = load_eye(path)
+        vertices, faces = load_eye_mesh(eye)
+        p, f = eye["placement"], eye["facets"]
+        print(f"eye: {eye['name']}" + "".join(f", {k} {eye[k]}" for k in ("species", "caste") if k in eye))
+        print(f"facets per eye, published: {f['count']}" + (f" ± {f['sd']}" if "sd" in f else ""))
+        print(f"mesh: {eye['mesh_path']}, {len(vertices)} vertices, {len(faces)} faces, "
+              f"{np.ptp(vertices, axis=0).max():.3g} mm across")
+        print(f"placement: axis azimuth {p['axis_azimuth_deg']}°, elevation {p['axis_elevation_deg']}°, "
+              f"roll {p['roll_deg']}°, origin {p['origin_mm']} mm")
+        for a in eye["facet_diameter"]["anchors"]:
+            print(f"anchor {a['name']}: {a['diameter_um']} µm at azimuth {a['azimuth_deg']}°, "
+                  f"elevation {a['elevation_deg']}°")
+        for section in ("optics", "published"):
+            for key, value in eye.get(section, {}).items():
+                if key != "source":
+                    value = {k: v for k, v in value.items() if k != "source"} if isinstance(value, dict) else value
+                    print(f"{section}.{key}: {value}")
+        return
+    scene = load_scene(path, stages.wavelengths(schema_defaults()["spectral"]))
+    data = validate(data, "scene", path)
+    light, head, cam = data["light"], data["eye"], scene.camera
+    print(f"scene: {scene.name}")
+    sun = f"sun at elevation {light['sun_elevation_deg']}°, azimuth {light['sun_azimuth_deg']}°"
+    print(f"light: {light['sky']} sky, turbidity {light['turbidity']}, {sun if light['sun'] else 'no sun'}")
+    print(f"eye: at {head['position_m']} m, heading {head['heading_deg']}°, pitch {head['pitch_deg']}°")
+    print(f"camera: at {cam['position_m']} m looking at {cam['look_at_m']} m, {cam['vertical_fov_deg']}° high, "
+          f"{cam['width_px']} × {cam['height_px']} px" + ("" if "camera" in data else " (default: the bee's view)"))
+    print(f"materials: {', '.join(scene.material_names)}")
+    for o in scene.objects:
+        ids = np.unique(o["face_material"] if o["texture"] is None else o["texture"])
+        print(f"object {o['name']}: {len(o['faces'])} triangles of {', '.join(scene.material_names[i] for i in ids)}")
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        # One line, as for every other bad input; the usage is one --help away.
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _positive_or(*words):
+    def parse(text):
+        try:
+            value = text if text in words else float(text)
+        except ValueError:
+            value = float("nan")
+        if not (value in words or np.isfinite(value) and value > 0):
+            raise argparse.ArgumentTypeError(f"expected {' or '.join(words)} or a positive number, not {text!r}")
+        return value
+    return parse
+
+
+def parser():
+    """The parser of every subcommand; the config settings' defaults come from the schema."""
+    top = _Parser(prog="beeoptics", description=__doc__.split("\n\n")[0].replace("``", ""))
+    sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    eyefile = _Parser(add_help=False)
+    g = eyefile.add_argument_group("CompoundRay .eye conventions (see beeoptics.interchange)")
+    g.add_argument("--units", type=_positive_or("m", "mm"), default="m",
+                   help="lengths in the .eye file: m (glTF's metres), mm, or file units per mm (default: %(default)s)")
+    g.add_argument("--frame", choices=["camera", "head"], default="camera",
+                   help="camera: x right, y up, z forward of a camera looking where the bee faces (the head "
+                        "frame's -y, z, x); head: head-frame coordinates unchanged (default: %(default)s)")
+    g.add_argument("--acceptance", choices=["fwhm", "variance"], default="fwhm",
+                   help="the file's acceptance angle, radians, is Δρ (fwhm, CompoundRay's definition) or √2·Δρ "
+                        "(variance: the same angular blur as the receptor's) (default: %(default)s)")
+    g.add_argument("--side", choices=["right", "left", "auto"],
+                   help="reading a .eye: the eye it holds, or auto to split it by the sign of head-frame y "
+                        "(default: right); writing a .eye: only that eye's receptors (default, or auto: all)")
+    g.add_argument("--delta-phi-deg", type=float,
+                   help="reading a .eye: Δφ of every receptor, degrees (default: measured from neighbouring axes)")
+    g.add_argument("--facet-diameter-um", type=_positive_or("spacing"), help="reading a .eye: facet diameter of "
+                   "every receptor, µm, or 'spacing', the mean distance to its neighbours (default: none, NaN)")
+    quiet = dict(action="store_true", help="no progress bars (which go to stderr)")
+
+    p = sub.add_parser("build-eye", help="build an eye's facets and receptors from its eye.yaml",
+                       description=build_eye.__doc__)
+    p.add_argument("eye", metavar="EYE_YAML", help="eye description, e.g. eyes/worker/eye.yaml")
+    p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path,
+                   help="folder for remeshed.ply, receptors.csv, quality.json and relaxation.npz")
+    p.add_argument("--ply", action="store_true", help="also write receptors.ply, the receptors as a PLY point cloud")
+    p.add_argument("--quiet", **quiet)
+    p.set_defaults(run=build_eye)
+    p = sub.add_parser("render", help="trace an eye in a scene: responses and retinal images",
+                       description=render.__doc__)
+    p.add_argument("receptors", metavar="RECEPTORS_CSV", help="receptor table, as build-eye writes it")
+    p.add_argument("scene", metavar="SCENE_YAML", help="scene description, e.g. scenes/meadow/scene.yaml")
+    p.add_argument("--eye", required=True, metavar="EYE_YAML", help="the receptors' eye, for the retinal plane")
+    p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path, help="folder for responses.csv, "
+                   "irradiance.npz and the images " + ", ".join(stages.IMAGES.values()))
+    p.add_argument("--quiet", **quiet)
+    p.set_defaults(run=render)
+    for command, options in SETTINGS.items():
+        for option, key, kind, text in options:
+            sub.choices[command].add_argument(option, type=kind, default=reduce(dict.get, key.split("."),
+                                              schema_defaults()), help=f"{text} (default: %(default)s)")
+
+    p = sub.add_parser("convert", parents=[eyefile], help="convert receptors between .csv, .eye and .ply",
+                       description=convert.__doc__)
+    p.add_argument("input", metavar="IN", help="receptors.csv, a CompoundRay .eye or a receptor .ply")
+    p.add_argument("output", metavar="OUT", help="the file to write: .csv, .eye or .ply")
+    p.add_argument("--focal-offset-mm", type=float,
+                   help="writing a .eye: focal point offset of every receptor, mm (default: the input's, else 0)")
+    p.add_argument("--quality", choices=[*interchange.PLY_FLOATS, "none"], default="delta_phi_deg",
+                   help="writing a .ply: the column MeshLab shows as vertex quality (default: %(default)s)")
+    p.set_defaults(run=convert)
+    p = sub.add_parser("info", parents=[eyefile], help="describe an eye, a scene or receptors",
+                       description=info.__doc__)
+    p.add_argument("path", metavar="PATH", help="eye.yaml, scene.yaml, receptors.csv, a .eye or a .ply")
+    p.set_defaults(run=info)
+    return top
+
+
+def main(argv=None):
+    """Run the tool on ``argv`` (default: the command line); return the exit status."""
+    try:
+        args = parser().parse_args(argv)
+        args.run(args)
+    except SystemExit as e:  # --help, and argparse's own errors
+        return e.code
+    except InputError as e:
+        print(f"beeoptics: error: {e}", file=sys.stderr)
+        return 2
+    except OSError as e:  # an unwritable output folder, a full disk
+        print(f"beeoptics: error: {e}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("beeoptics: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

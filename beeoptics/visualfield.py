@@ -1,0 +1,172 @@
+"""The visual field of both eyes on the sphere of directions, as an equirectangular map.
+
+Each pixel of the map is a direction in the head frame: azimuth from +x
+(anterior), positive towards the bee's left (+y), running from +180° at the
+map's left edge through 0° (straight ahead) to −180° at its right edge, so
+that the left eye's field lies on the left; elevation from the xy-plane,
+positive dorsal, +90° at the top. The map is equirectangular (plate carrée):
+equal steps of azimuth and elevation, the projection of Stürzl et al.'s
+(2010) and Seidl's (1982) maps of the bee's field.
+
+A pixel shows the receptor whose optical axis is nearest to it, a Voronoi
+diagram on the sphere, found with a KD-tree on unit vectors (the chord
+between two unit vectors ranks pairs as their angle does). An eye sees a
+direction that lies within its lattice of axes, or beyond the outermost
+axes by no more than Δρ/2, where a receptor still has half its peak
+sensitivity (Snyder's Gaussian). The lattice is the spherical Delaunay
+triangulation of the eye's axes (their convex hull), less the triangles
+that span gaps rather than join neighbours, and a direction is inside it
+when a ray from the centre in that direction hits one of its triangles
+(Open3D). Directions both eyes see are the binocular overlap.
+
+References
+----------
+Seidl R (1982) Die Sehfelder und Ommatidien-Divergenzwinkel von Arbeiterin,
+Königin und Drohn der Honigbiene (Apis mellifica). Dissertation, TH Darmstadt.
+Stürzl W, Böddeker N, Dittmar L, Egelhaaf M (2010) Mimicking honeybee eyes
+with a 280° field of view catadioptric imaging system. Bioinspir Biomim 5:036002.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+import open3d as o3d
+from scipy.spatial import ConvexHull, cKDTree
+
+#: Bits of :attr:`VisualField.eyes`: which eyes see a direction.
+RIGHT, LEFT = 1, 2
+#: A triangle of axes with an edge longer than this many Δφ of its ends spans
+#: a gap in the lattice (its rim, or the far side of the sphere), not neighbours;
+#: the same bound as the facet lattice's neighbour triangulation.
+MAX_EDGE = 1.8
+
+
+class VisualField(NamedTuple):
+    """An equirectangular map of both eyes' fields.
+
+    ``azimuth_deg`` (w,) and ``elevation_deg`` (h,) are the pixel centres;
+    ``receptor`` (h, w) the index of the receptor each pixel shows, −1 where
+    none sees it; ``eyes`` (h, w) the bits :data:`RIGHT` and :data:`LEFT` of
+    the eyes that see it (3 in the binocular overlap).
+    """
+
+    azimuth_deg: np.ndarray
+    elevation_deg: np.ndarray
+    receptor: np.ndarray
+    eyes: np.ndarray
+
+
+def directions(width_px):
+    """Pixel centres of an equirectangular map ``width_px`` wide and half as high.
+
+    Returns
+    -------
+    azimuth_deg : ndarray (w,)
+    elevation_deg : ndarray (h,)
+    unit : ndarray (h, w, 3)
+        Head-frame unit vectors.
+    """
+    height = width_px // 2
+    az = 180.0 - (np.arange(width_px) + 0.5) * 360.0 / width_px
+    el = 90.0 - (np.arange(height) + 0.5) * 180.0 / height
+    a, e = np.meshgrid(np.radians(az), np.radians(el))
+    unit = np.stack([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)], -1)
+    return az, el, unit
+
+
+def within_lattice(axes, delta_phi_deg, unit):
+    """Whether each direction falls in a triangle of neighbouring axes of one eye.
+
+    Parameters
+    ----------
+    axes : ndarray (n, 3)
+        One eye's unit axes.
+    delta_phi_deg : ndarray (n,)
+        Each receptor's interommatidial angle.
+    unit : ndarray (m, 3)
+        Directions.
+    """
+    tri = ConvexHull(axes).simplices
+    angle = np.arccos(np.clip((axes[tri] * axes[np.roll(tri, 1, 1)]).sum(-1), -1.0, 1.0))
+    reach = np.radians(MAX_EDGE * 0.5 * (delta_phi_deg[tri] + delta_phi_deg[np.roll(tri, 1, 1)]))
+    tri = tri[(angle <= reach).all(1)]
+    if len(tri) == 0:
+        return np.zeros(len(unit), bool)
+    scene = o3d.t.geometry.RaycastingScene()
+    scene.add_triangles(o3d.core.Tensor(axes.astype(np.float32)), o3d.core.Tensor(tri.astype(np.uint32)))
+    rays = np.hstack([np.zeros_like(unit), unit]).astype(np.float32)
+    return np.isfinite(scene.cast_rays(o3d.core.Tensor(rays))["t_hit"].numpy())
+
+
+def visual_field(axes, sides, delta_rho_deg, delta_phi_deg, width_px=720):
+    """Which receptor, of which eye, sees each direction of the sphere.
+
+    Parameters
+    ----------
+    axes : ndarray (n, 3)
+        Receptor optical axes, head frame, unit vectors.
+    sides : array_like of str (n,)
+        ``"left"`` or ``"right"``.
+    delta_rho_deg : ndarray (n,)
+        Acceptance angle of each receptor, degrees.
+    delta_phi_deg : ndarray (n,)
+        Interommatidial angle of each receptor, degrees.
+    width_px : int
+        Map width; the height is half of it.
+
+    Returns
+    -------
+    VisualField
+    """
+    az, el, unit = directions(width_px)
+    flat = unit.reshape(-1, 3)
+    sides = np.asarray(sides)
+    half_width = np.radians(np.asarray(delta_rho_deg, float)) / 2.0
+    delta_phi_deg = np.asarray(delta_phi_deg, float)
+    receptor = np.full(len(flat), -1)
+    best = np.full(len(flat), np.inf)
+    eyes = np.zeros(len(flat), np.uint8)
+    for side, bit in (("right", RIGHT), ("left", LEFT)):
+        mine = np.flatnonzero(sides == side)
+        if mine.size == 0:
+            continue
+        chord, k = cKDTree(axes[mine]).query(flat)
+        angle = 2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0))
+        seen = (angle <= half_width[mine[k]]) | within_lattice(axes[mine], delta_phi_deg[mine], flat)
+        eyes[seen] |= bit
+        nearer = seen & (angle < best)
+        receptor[nearer], best[nearer] = mine[k[nearer]], angle[nearer]
+    shape = unit.shape[:2]
+    return VisualField(az, el, receptor.reshape(shape), eyes.reshape(shape))
+
+
+def paint(field, values):
+    """Per-receptor values on the map, (h, w, c); NaN where no receptor sees."""
+    values = np.asarray(values, float).reshape(len(values), -1)
+    out = np.full((*field.receptor.shape, values.shape[1]), np.nan)
+    seen = field.receptor >= 0
+    out[seen] = values[field.receptor[seen]]
+    return out
+
+
+def extent(field):
+    """Solid angle of each eye's field and of the overlap, steradians and fraction of the sphere.
+
+    Returns
+    -------
+    dict
+        ``right_sr``, ``left_sr``, ``binocular_sr``, ``total_sr`` and the
+        same over 4π as ``*_fraction``.
+    """
+    # A pixel's solid angle is cos(elevation) dφ dθ on an equirectangular map.
+    h, w = field.eyes.shape
+    pixel = np.cos(np.radians(field.elevation_deg))[:, None] * (np.pi / h) * (2.0 * np.pi / w)
+    pixel = np.broadcast_to(pixel, (h, w))
+    sr = {
+        "right_sr": pixel[(field.eyes & RIGHT) > 0].sum(),
+        "left_sr": pixel[(field.eyes & LEFT) > 0].sum(),
+        "binocular_sr": pixel[field.eyes == RIGHT | LEFT].sum(),
+        "total_sr": pixel[field.eyes > 0].sum(),
+    }
+    return {**{k: float(v) for k, v in sr.items()},
+            **{k.replace("_sr", "_fraction"): float(v / (4.0 * np.pi)) for k, v in sr.items()}}

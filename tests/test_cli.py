@@ -1,0 +1,209 @@
+"""The command-line tool: every subcommand on the tiny eye and test scenes, its help, and bad input."""
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from beeoptics import cli, stages
+from beeoptics.errors import InputError
+from beeoptics.interchange import read_receptor_ply
+from beeoptics.receptors import COLUMNS, read_receptors
+from beeoptics.table import read_table
+from conftest import ROOT
+
+DATA = ROOT / "tests" / "data"
+EYE = DATA / "eyes" / "tiny" / "eye.yaml"
+FLOWER = DATA / "scenes" / "flower" / "scene.yaml"
+TOOL = Path(sys.executable).with_name("beeoptics")
+# Few rays on a coarse spectrum: these tests check the tool, not the picture.
+FAST = ["--samples", "4", "--depth", "1", "--step-nm", "20", "--width-px", "32", "--quiet"]
+
+
+def call(capsys, *args):
+    """Run the tool in this process: exit status, stdout, stderr."""
+    code = cli.main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def render_args(receptors, scene, out, *extra):
+    return ["render", receptors, scene, "--eye", EYE, "-o", out, *FAST, *extra]
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cli") / "tiny"
+    assert cli.main(["build-eye", str(EYE), "-o", str(out), "--ply", "--quiet"]) == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def rendered(built, tmp_path_factory):
+    out = tmp_path_factory.mktemp("cli") / "flower"
+    assert cli.main([str(a) for a in render_args(built / "receptors.csv", FLOWER, out)]) == 0
+    return out
+
+
+def test_help_of_every_subcommand_explains_every_option(capsys):
+    top = cli.parser()
+    code, out, _ = call(capsys, "--help")
+    assert code == 0
+    subcommands = top._subparsers._group_actions[0].choices
+    assert set(subcommands) == {"build-eye", "render", "convert", "info"}
+    schema = yaml.safe_load(cli.CONFIG_SCHEMA.read_text())
+    for name, sub in subcommands.items():
+        assert name in out
+        code, out_sub, _ = call(capsys, name, "--help")
+        assert code == 0
+        text = " ".join(out_sub.split())
+        for action in sub._actions:
+            assert action.help, (name, action.dest)
+            for word in action.option_strings or [action.metavar]:
+                assert word in text, (name, word)
+        # Defaults are the workflow schema's, not numbers of the tool's own.
+        for option, key, _, _ in cli.SETTINGS.get(name, []):
+            node = schema
+            for part in key.split("."):
+                node = node["properties"][part]
+            assert f"{option} " in text and f"(default: {node['default']})" in text, option
+
+
+def test_build_eye_writes_the_receptor_table(built):
+    for name in ("remeshed.ply", "receptors.csv", "quality.json", "relaxation.npz", "receptors.ply"):
+        assert (built / name).stat().st_size > 0
+    table = read_table(built / "receptors.csv")
+    assert tuple(table) == COLUMNS
+    assert len(table["id"]) == 600 and sorted(set(table["side"])) == ["left", "right"]
+    ply = read_receptor_ply(built / "receptors.ply")
+    np.testing.assert_array_equal(ply["position"], read_receptors(built / "receptors.csv")["position"])
+    assert not list(built.glob(".partial-*"))
+
+
+def test_render_writes_responses_and_images(rendered):
+    responses = read_table(rendered / "responses.csv")
+    assert len(responses["id"]) == 600 and np.all(responses["G"] > 0)
+    for name in ["irradiance.npz", *stages.IMAGES.values()]:
+        assert (rendered / name).stat().st_size > 0, name
+    assert not list(rendered.glob(".partial-*"))
+
+
+def test_the_installed_script_renders_the_same_bytes_again(built, rendered, tmp_path):
+    again = tmp_path / "again"
+    result = subprocess.run([str(a) for a in [TOOL, *render_args(built / "receptors.csv", FLOWER, again)]],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert sorted(p.name for p in again.iterdir()) == sorted(p.name for p in rendered.iterdir())
+    for path in rendered.iterdir():
+        assert (again / path.name).read_bytes() == path.read_bytes(), path.name
+
+
+def test_convert_round_trips_through_compoundray_and_ply(built, tmp_path, capsys):
+    csv = built / "receptors.csv"
+    original = read_receptors(csv)
+    for conventions in ([], ["--units", "mm", "--frame", "head", "--acceptance", "variance"]):
+        assert call(capsys, "convert", csv, tmp_path / "eye.eye", *conventions)[0] == 0
+        code, _, err = call(capsys, "convert", tmp_path / "eye.eye", tmp_path / "back.csv", "--side", "auto",
+                            *conventions)
+        assert code == 0, err
+        back = read_receptors(tmp_path / "back.csv")
+        np.testing.assert_array_equal(back["side"], original["side"])
+        np.testing.assert_allclose(back["position"], original["position"], atol=1e-8)
+        np.testing.assert_allclose(back["axis"], original["axis"], atol=1e-8)
+        np.testing.assert_allclose(back["delta_rho_deg"], original["delta_rho_deg"], rtol=1e-7)
+    assert call(capsys, "convert", csv, tmp_path / "r.ply")[0] == 0
+    assert call(capsys, "convert", tmp_path / "r.ply", tmp_path / "r.csv")[0] == 0
+    assert (tmp_path / "r.csv").read_bytes() == csv.read_bytes()
+    code, out, _ = call(capsys, "convert", csv, tmp_path / "left.eye", "--side", "left")
+    assert code == 0 and "300 receptors" in out
+    assert len((tmp_path / "left.eye").read_text().splitlines()) == 300
+
+
+def test_info_describes_eyes_scenes_and_receptors(built, tmp_path, capsys):
+    code, out, _ = call(capsys, "info", EYE)
+    assert code == 0 and "facets per eye, published: 300" in out and "anchor dorsal" in out
+    for path in (built / "receptors.csv", built / "receptors.ply"):
+        code, out, _ = call(capsys, "info", path)
+        assert code == 0 and "receptors: 600 (right 300, left 300)" in out and "Δφ, degrees: min" in out
+    call(capsys, "convert", built / "receptors.csv", tmp_path / "eye.eye")
+    code, out, _ = call(capsys, "info", tmp_path / "eye.eye", "--side", "auto")
+    assert code == 0 and "right 300, left 300" in out and "facet diameter, µm: not given" in out
+    code, out, _ = call(capsys, "info", FLOWER)
+    assert code == 0 and "materials: centre, tip, leaf" in out and "object flower" in out
+
+
+def missing_mesh(tmp_path, built):
+    eye = yaml.safe_load(EYE.read_text())
+    eye["mesh"] = "nowhere.obj"
+    (tmp_path / "eye.yaml").write_text(yaml.safe_dump(eye))
+    return ["build-eye", tmp_path / "eye.yaml", "-o", tmp_path / "out"], "eye.yaml", "mesh"
+
+
+def unknown_material(tmp_path, built):
+    shutil.copytree(FLOWER.parent, tmp_path / "flower")
+    scene = tmp_path / "flower" / "scene.yaml"
+    scene.write_text(FLOWER.read_text().replace("material: leaf", "material: grass"))
+    return render_args(built / "receptors.csv", scene, tmp_path / "out"), "scene.yaml", "objects.0.material"
+
+
+def nonpositive_delta_rho(tmp_path, built):
+    table = read_table(built / "receptors.csv")
+    lines = (built / "receptors.csv").read_text().splitlines()
+    row = lines[5].split(",")
+    row[list(table).index("delta_rho_deg")] = "0"
+    lines[5] = ",".join(row)
+    (tmp_path / "receptors.csv").write_text("\n".join(lines) + "\n")
+    return render_args(tmp_path / "receptors.csv", FLOWER, tmp_path / "out"), "receptors.csv", "delta_rho_deg"
+
+
+def zero_samples(tmp_path, built):
+    return render_args(built / "receptors.csv", FLOWER, tmp_path / "out", "--samples", "0"), "command line", "--samples"
+
+
+def unknown_background(tmp_path, built):
+    args = render_args(built / "receptors.csv", FLOWER, tmp_path / "out", "--background", "grass")
+    return args, "scene.yaml", "materials"
+
+
+def unknown_format(tmp_path, built):
+    return ["convert", built / "receptors.csv", tmp_path / "out" / "eye.txt"], "eye.txt", ""
+
+
+@pytest.mark.parametrize("case", [missing_mesh, unknown_material, nonpositive_delta_rho, zero_samples,
+                                  unknown_background, unknown_format])
+def test_bad_input_is_one_line_naming_file_and_field_and_writes_nothing(case, tmp_path, built, capsys):
+    args, file, field = case(tmp_path, built)
+    code, out, err = call(capsys, *args)
+    assert code == 2
+    assert len(err.splitlines()) == 1 and err.startswith("beeoptics: error: "), err
+    assert f"{file}: {field}" in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_installed_script_reports_bad_input_without_a_traceback(tmp_path, built):
+    args, _, _ = nonpositive_delta_rho(tmp_path, built)
+    args.remove("--quiet")
+    result = subprocess.run([str(a) for a in [TOOL, *args]], capture_output=True, text=True)
+    assert result.returncode == 2
+    assert result.stderr.splitlines() == [
+        f"beeoptics: error: {tmp_path / 'receptors.csv'}: delta_rho_deg: acceptance angles must be positive"]
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_run_failing_late_leaves_the_output_folder_as_it_was(tmp_path, built, capsys, monkeypatch):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "responses.csv").write_text("older\n")
+
+    def fail(*args, **kwargs):
+        raise InputError("eye.yaml", "placement", "refused after the trace")
+
+    monkeypatch.setattr(stages, "retinal_images", fail)
+    code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, out))
+    assert code == 2 and "refused after the trace" in err
+    assert [p.name for p in out.iterdir()] == ["responses.csv"]
+    assert (out / "responses.csv").read_text() == "older\n"
