@@ -153,7 +153,12 @@ def sky_coefficients(sky, directions):
         theta = np.arccos(np.clip(d[:, 2], -1.0, 1.0))
         theta = np.minimum(theta, np.pi / 2.0 - 1e-3)  # B/cos θ is singular at the horizon
         gamma = np.arccos(np.clip(d @ p["sun"], -1.0, 1.0))
-        big_y, x, y = (p["norm"][k] * _perez(theta, gamma, p["perez"][k]) for k in ("Y", "x", "y"))
+        big_y, x, _ = (p["norm"][k] * _perez(theta, gamma, p["perez"][k]) for k in ("Y", "x", "y"))
+        # The daylight basis holds only chromaticities on the daylight locus; Preetham's
+        # y strays a little above it (by up to 0.07 with the sun low), enough to drive the
+        # spectrum negative below 330 nm. The locus's own y at Preetham's x keeps every
+        # spectrum positive (CIE 015:2004, y_D = −3.000 x² + 2.870 x − 0.275).
+        y = -3.000 * x**2 + 2.870 * x - 0.275
         # CIE 015:2004: M1, M2 of the daylight basis for chromaticity (x, y).
         m = 0.0241 + 0.2562 * x - 0.7341 * y
         m1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m

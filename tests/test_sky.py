@@ -82,3 +82,15 @@ def test_a_uniform_hemisphere_of_unit_radiance_gives_pi_on_a_horizontal_surface(
 
     sky = uniform_sky(np.ones(len(wavelengths)), hemisphere=True)
     np.testing.assert_allclose(horizontal_irradiance(sky, None, len(wavelengths)), np.pi, rtol=1e-12)
+
+
+@pytest.mark.parametrize("elevation", [1.0, 5.0, 20.0, 80.0])
+@pytest.mark.parametrize("turbidity", [2.0, 6.0, 10.0])
+def test_preetham_sky_radiance_is_never_negative(elevation, turbidity, wavelengths):
+    # With the sun low, Preetham's chromaticities leave the daylight locus, off which the
+    # CIE daylight basis gives negative UV; the sky must stay physical everywhere.
+    s = preetham_sky(wavelengths, direction_from_angles(elevation, 30.0), turbidity)
+    d = np.random.default_rng(0).normal(size=(20000, 3))
+    d[:, 2] = np.abs(d[:, 2])
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    assert radiance(s, d).min() >= 0.0
