@@ -127,14 +127,19 @@ def build_eye(args):
 
 
 def render(args):
-    """Trace an eye's receptors through a scene, gather their responses and draw the retinal images."""
+    """Trace an eye's receptors through a scene, gather their responses and draw the retinal images.
+
+    Receptors without an eye file (imported from a CompoundRay eye, say) get
+    no retinal images, which need the eye's placement on the head.
+    """
     config = settings(args)
     trace, spectral, background = config["trace"], config["spectral"], config["colour"]["background"]
     # Refused now rather than after a trace of minutes.
-    load_eye(args.eye)
+    if args.eye is not None:
+        load_eye(args.eye)
     if background != "scene" and background not in validate(load_yaml(args.scene), "scene", args.scene)["materials"]:
         raise InputError(args.scene, "materials", f"no material {background!r} to adapt to (--background)")
-    names = ["responses.csv", "irradiance.npz", *stages.IMAGES.values()]
+    names = ["responses.csv", "irradiance.npz", *(stages.IMAGES.values() if args.eye is not None else ())]
     with staged(args.output, names) as tmp:
         with _bar(args, "tracing", " receptors") as bar:
             def progress(done, total):
@@ -145,9 +150,10 @@ def render(args):
                               seed=trace["seed"], batch_rays=trace["batch_rays"], progress=progress)
         stages.gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"], tmp / "responses.csv",
                                 tmp / "irradiance.npz", spectral=spectral, background=background)
-        stages.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
-                              {key: tmp / name for key, name in stages.IMAGES.items()},
-                              width_px=config["images"]["width_px"])
+        if args.eye is not None:
+            stages.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+                                  {key: tmp / name for key, name in stages.IMAGES.items()},
+                                  width_px=config["images"]["width_px"])
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
@@ -299,7 +305,8 @@ def parser():
                        description=render.__doc__)
     p.add_argument("receptors", metavar="RECEPTORS_CSV", help="receptor table, as build-eye writes it")
     p.add_argument("scene", metavar="SCENE_YAML", help="scene description, e.g. scenes/meadow/scene.yaml")
-    p.add_argument("--eye", required=True, metavar="EYE_YAML", help="the receptors' eye, for the retinal plane")
+    p.add_argument("--eye", metavar="EYE_YAML", help="the receptors' eye, for the retinal-plane images "
+                   "(without it, only responses.csv and irradiance.npz are written)")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path, help="folder for responses.csv, "
                    "irradiance.npz and the images " + ", ".join(stages.IMAGES.values()))
     p.add_argument("--quiet", **quiet)

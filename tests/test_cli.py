@@ -207,3 +207,24 @@ def test_a_run_failing_late_leaves_the_output_folder_as_it_was(tmp_path, built, 
     assert code == 2 and "refused after the trace" in err
     assert [p.name for p in out.iterdir()] == ["responses.csv"]
     assert (out / "responses.csv").read_text() == "older\n"
+
+
+def test_an_eye_from_compoundray_renders_here(tmp_path, capsys):
+    # An eye as a micro-CT study would export it for CompoundRay: one line per ommatidium,
+    # position (m) and direction in CompoundRay's camera frame (right, up, forward), the
+    # acceptance angle (rad) and a focal offset; a hemispherical eye of 0.5 mm radius.
+    k = np.arange(400) + 0.5
+    z = 1.0 - k / 400
+    phi = np.pi * (1.0 + 5**0.5) * k
+    r = np.sqrt(1.0 - z * z)
+    axes = np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
+    lines = [" ".join(f"{v:.9g}" for v in (*(5e-4 * a), *a, np.radians(2.6), 0.0)) for a in axes]
+    (tmp_path / "scanned.eye").write_text("\n".join(lines) + "\n")
+    code, _, err = call(capsys, "convert", tmp_path / "scanned.eye", tmp_path / "scanned.csv")
+    assert code == 0, err
+    code, out, err = call(capsys, "render", tmp_path / "scanned.csv", FLOWER, "-o", tmp_path / "out", *FAST)
+    assert code == 0, err
+    resp = read_table(tmp_path / "out" / "responses.csv", numeric=["UV", "B", "G"], text=["side"])
+    assert len(resp["UV"]) == 400
+    assert all(np.isfinite(resp[c]).all() and (resp[c] > 0).all() for c in ("UV", "B", "G"))
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["irradiance.npz", "responses.csv"]
