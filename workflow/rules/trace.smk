@@ -14,7 +14,8 @@ rule trace:
         light={},
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
-    threads: workflow.cores
+    # Open3D traces on every core it has; Snakemake gives a job at most --cores of them.
+    threads: 8
     resources:
         mem_mb=4000,
         runtime=60,
@@ -56,7 +57,8 @@ rule human_view:
         samples_per_pixel=config["human_view"]["samples_per_pixel"],
     log:
         "results/logs/human_view/{scene}.log",
-    threads: workflow.cores
+    # Open3D traces on every core it has; Snakemake gives a job at most --cores of them.
+    threads: 8
     resources:
         mem_mb=4000,
     script:
