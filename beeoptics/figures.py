@@ -124,7 +124,7 @@ def acceptance(theta_deg, curves, delta_phi_deg, path, eye_name=""):
         ax.plot(theta_deg, a, label=label)
     ax.axhline(0.5, color="0.7", linewidth=0.6)
     ax.axvline(delta_phi_deg, color="0.4", linestyle="--", linewidth=0.8)
-    ax.annotate(f"median Δφ {delta_phi_deg:.2f}°", (delta_phi_deg, 0.9), xytext=(4, 0),
+    ax.annotate(f"median Δφ {delta_phi_deg:.2f}°", (delta_phi_deg, 0.55), xytext=(4, 0),
                 textcoords="offset points", fontsize=8)
     ax.set(xlabel="angle from the optical axis θ, °", ylabel="A(θ)", ylim=(0, 1.02),
            title=f"{eye_name}: acceptance function, A = exp(−2.77 θ²/Δρ²) (Snyder 1977)")

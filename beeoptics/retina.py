@@ -89,15 +89,15 @@ def density(can, xy, sides, values, normalise):
     """Kernel estimate of receptor values, (h, w, c); divided by the receptor density if ``normalise``.
 
     The kernel's standard deviation is the median distance between
-    neighbouring receptors in the retinal plane.
+    neighbouring receptors of one eye in the retinal plane (the two eyes
+    share that plane, mirrored, so they are measured apart).
     """
     values = np.asarray(values, float).reshape(len(xy), -1)
     h, w = can.side.shape
     out = np.full((h, w, values.shape[1]), np.nan)
-    spacing = np.median(cKDTree(xy).query(xy, k=2)[0][:, 1])
-    sigma = spacing / can.pixel_mm
     for s in ("left", "right"):
         mine = np.flatnonzero(np.asarray(sides) == s)
+        sigma = np.median(cKDTree(xy[mine]).query(xy[mine], k=2)[0][:, 1]) / can.pixel_mm
         cols = np.flatnonzero(can.side[0] == s)
         x0, x1 = can.xy[0, cols[0], 0], can.xy[0, cols[-1], 0]
         step = (x1 - x0) / (len(cols) - 1)

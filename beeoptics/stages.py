@@ -171,6 +171,8 @@ def eye_figures(eye_file, relaxation_npz, receptors_csv, outputs):
     theta = np.linspace(0.0, 5.0, 501)
     levels = dict(zip(("5th percentile", "median", "95th percentile"),
                       np.percentile(table["delta_rho_deg"], [5, 50, 95])))
+    if np.ptp(list(levels.values())) == 0.0:
+        levels = {"every receptor": levels["median"]}
     curves = {f"Δρ {v:.2f}° ({k})": optics.acceptance(np.radians(theta), np.radians(v)) for k, v in levels.items()}
     figures.acceptance(theta, curves, float(np.median(table["delta_phi_deg"])), outputs["acceptance"], eye["name"])
     data = np.load(relaxation_npz)
