@@ -71,12 +71,16 @@ def resample(wavelengths, values, onto, source="spectrum", field=""):
     step = onto[1] - onto[0] if len(onto) > 1 else 1.0
     cover = colour.SpectralShape(min(wl[0], onto[0]), max(wl[-1], onto[-1]), 1.0)
     out = np.empty((len(onto), columns.shape[1]))
-    for j in range(columns.shape[1]):
-        sd = colour.SpectralDistribution(columns[:, j], wl, interpolator=colour.LinearInterpolator)
-        # Edges within the tolerance are held at their last measured value.
-        sd.extrapolate(cover, extrapolator_kwargs={"method": "Constant", "left": None, "right": None})
-        sd.interpolate(colour.SpectralShape(onto[0], onto[-1], step), interpolator=colour.LinearInterpolator)
-        out[:, j] = sd.values
+    # Measured spectra often come on uneven grids (ASTM G173: 0.5 nm, then 1 and 5 nm);
+    # linear interpolation takes them as they are, and colour-science's warning that
+    # the grid is uneven would only fill the logs.
+    with colour.utilities.suppress_warnings(colour_runtime_warnings=True):
+        for j in range(columns.shape[1]):
+            sd = colour.SpectralDistribution(columns[:, j], wl, interpolator=colour.LinearInterpolator)
+            # Edges within the tolerance are held at their last measured value.
+            sd.extrapolate(cover, extrapolator_kwargs={"method": "Constant", "left": None, "right": None})
+            sd.interpolate(colour.SpectralShape(onto[0], onto[-1], step), interpolator=colour.LinearInterpolator)
+            out[:, j] = sd.values
     return out.reshape((len(onto),) + v.shape[1:])
 
 

@@ -123,7 +123,8 @@ def validate_config(config, schema_path, source="config", folders=True):
     ``schema_path`` (``workflow/schemas/config.schema.yaml``) as one line
     naming ``source`` and the dotted key, with a suggestion for a misspelt
     key; then, with ``folders``, that every eye class and scene named, in
-    the run or in a sweep, has its folder, so that a typo stops the run before any job starts.
+    the run or in a sweep, has its folder, and that a named adapting
+    background is a material of each scene, so that a typo stops the run before any job starts.
     Relative folders are taken from the working directory, as the rules take them.
 
     Parameters
@@ -153,6 +154,18 @@ def validate_config(config, schema_path, source="config", folders=True):
                         f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
                         f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
                     )
+        # A named adapting background must be a material of every scene traced.
+        background = config.get("colour", {}).get("background", "scene")
+        if background != "scene":
+            root = Path(config["scenes_dir"])
+            scenes = [*config["scenes"], *(n for sweep in config.get("sweeps", {}).values() for n in sweep["scenes"])]
+            for name in dict.fromkeys(scenes):
+                scene = load_yaml(root / name / "scene.yaml")
+                materials = (scene.get("materials") if isinstance(scene, dict) else None) or {}
+                if background not in materials:
+                    raise InputError(source, "colour.background",
+                                     f"no material {background!r} in {root / name / 'scene.yaml'} "
+                                     f"(its materials: {', '.join(materials) or 'none'})")
     return config
 
 

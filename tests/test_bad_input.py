@@ -411,17 +411,30 @@ def test_known_eyes_and_scenes_pass_the_config_check(tmp_path):
     assert validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml") is cfg
 
 
-def test_a_dry_run_with_an_unknown_eye_class_stops_naming_the_config_key(tmp_path):
-    cfg = default_config()
-    cfg["eyes"] = ["nonexistent"]
+def dry_run_refuses(tmp_path, cfg):
+    """What a dry run of the workflow with this config prints; it must fail."""
     (tmp_path / "config.yaml").write_text(yaml.safe_dump(cfg))
     result = subprocess.run(
         [str(Path(sys.executable).with_name("snakemake")), "-n", "--directory", str(tmp_path),
          "--snakefile", str(ROOT / "Snakefile"), "--configfile", str(tmp_path / "config.yaml")],
         capture_output=True, text=True, cwd=tmp_path, timeout=120)
     assert result.returncode != 0
-    printed = result.stdout + result.stderr
+    return result.stdout + result.stderr
+
+
+def test_a_dry_run_with_an_unknown_eye_class_stops_naming_the_config_key(tmp_path):
+    cfg = default_config()
+    cfg["eyes"] = ["nonexistent"]
+    printed = dry_run_refuses(tmp_path, cfg)
     assert "config.yaml: eyes.0:" in printed and "nonexistent" in printed
+
+
+def test_a_dry_run_adapting_to_a_material_some_scene_lacks_stops_naming_the_config_key(tmp_path):
+    cfg = default_config()
+    cfg["colour"] = {"background": "tip"}  # a petal of the flower scene; the open scene has only leaf
+    cfg["scenes"] = ["flower", "open"]
+    printed = dry_run_refuses(tmp_path, cfg)
+    assert "config.yaml: colour.background:" in printed and "open/scene.yaml" in printed
 
 
 # --- a scene with no light ---------------------------------------------------------------------
