@@ -50,6 +50,8 @@ SETTINGS = {
         ("--step-nm", "spectral.step_nm", float, "spacing of the spectral grid, nm"),
         ("--background", "colour.background", str, "von Kries adapting background: 'scene' (the mean catch of all "
          "receptors) or a material of the scene (a Lambertian surface under its sky and sun)"),
+        ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'govardovskii' (A1 template at "
+         "344/436/544 nm) or a CSV in pavo's layout of measured curves UV, B, G"),
         ("--width-px", "images.width_px", int, "width of each eye's panel in the retinal images, pixels"),
     ],
 }
@@ -149,7 +151,8 @@ def render(args):
                               samples_per_receptor=trace["samples_per_receptor"], depth=trace["depth"],
                               seed=trace["seed"], batch_rays=trace["batch_rays"], progress=progress)
         stages.gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"], tmp / "responses.csv",
-                                tmp / "irradiance.npz", spectral=spectral, background=background)
+                                tmp / "irradiance.npz", spectral=spectral, background=background,
+                                receptor_curves=config["colour"]["sensitivities"])
         if args.eye is not None:
             stages.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in stages.IMAGES.items()},

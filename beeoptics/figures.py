@@ -81,7 +81,7 @@ def eye_map(points, values, boundary_xy, path, label, title):
     save(fig, path)
 
 
-def sensitivities(wavelengths, receptors, overall, path):
+def sensitivities(wavelengths, receptors, overall, path, source="Govardovskii A1, λmax 344/436/544 nm"):
     """Collins Fig. 6 and Fig. 5a: the receptor curves and the overall sensitivity S(λ).
 
     Parameters
@@ -92,12 +92,14 @@ def sensitivities(wavelengths, receptors, overall, path):
         S_UV, S_B, S_G, drawn each with its peak at one.
     overall : ndarray (n,)
         S(λ), drawn on a log axis as von Helversen (1972) plots it.
+    source : str
+        Where the receptor curves come from, for the title.
     """
     fig, (left, right) = plt.subplots(1, 2, figsize=(9.0, 3.6), constrained_layout=True)
     for k, (name, colour) in enumerate(zip(("UV", "B", "G"), ("tab:purple", "tab:blue", "tab:green"))):
         left.plot(wavelengths, receptors[:, k] / receptors[:, k].max(), color=colour, label=f"S$_{{{name}}}$")
     left.set(xlabel="wavelength, nm", ylabel="relative sensitivity",
-             title="receptor sensitivities (Fig. 6)\nGovardovskii A1, λmax 344/436/544 nm")
+             title=f"receptor sensitivities (Fig. 6)\n{source}")
     left.legend(frameon=False)
     right.semilogy(wavelengths, overall, color="k")
     right.set(xlabel="wavelength, nm", ylabel="S(λ), relative",

@@ -76,6 +76,17 @@ def receptor_sensitivities(wavelengths, lambda_max=LAMBDA_MAX_APIS):
     return s / s.sum(axis=0)
 
 
+#: The config's name for the template curves, as against a CSV of measured ones.
+TEMPLATE = "govardovskii"
+
+
+def sensitivities(wavelengths, source=TEMPLATE):
+    """The receptor curves a config names: :data:`TEMPLATE`, or the path of a pavo CSV of measured curves."""
+    if source == TEMPLATE:
+        return receptor_sensitivities(wavelengths)
+    return measured_sensitivities(source, wavelengths)
+
+
 def measured_sensitivities(path, wavelengths):
     """Receptor curves from a CSV in pavo's layout (columns UV, B, G in that order), summing to one.
 

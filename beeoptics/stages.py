@@ -9,6 +9,7 @@ import json
 import logging
 import time
 from contextlib import contextmanager
+from pathlib import Path
 
 import colour
 import igl
@@ -22,7 +23,7 @@ from beeoptics.imagefile import read_image, write_exr, write_png
 from beeoptics.receptors import read_receptors
 from beeoptics.retina import canvas, density, retinal_plane, voronoi
 from beeoptics.scene import load_scene, raycasting_scene, receptors_in_world
-from beeoptics.sensitivity import LAMBDA_MAX_APIS, RECEPTORS, overall_sensitivity, receptor_sensitivities
+from beeoptics.sensitivity import LAMBDA_MAX_APIS, RECEPTORS, TEMPLATE, overall_sensitivity, sensitivities
 from beeoptics.spectra import grid
 from beeoptics.table import read_table, write_table
 from beeoptics.trace import trace_paths
@@ -231,7 +232,7 @@ def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_rec
 
 
 def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradiance_npz, *, spectral,
-                     background="scene", light=None):
+                     background="scene", light=None, receptor_curves=TEMPLATE):
     """Stage 3, gathered: catches and colour-space coordinates of every receptor.
 
     Parameters
@@ -244,6 +245,9 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
         materials, as a Lambertian surface under the scene's sky and sun.
     light : dict, optional
         Overrides of the scene's light section, as the trace had them.
+    receptor_curves : str
+        The receptor sensitivities: the template, or a CSV of measured curves
+        (:func:`beeoptics.sensitivity.sensitivities`).
     """
     wl = wavelengths(spectral)
     table = read_receptors(receptors_csv)
@@ -254,7 +258,7 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
     radiance = np.concatenate([p["radiance"] for p in parts])
     drho = table["delta_rho_deg"]
     irradiance = radiance * acceptance_solid_angle(drho)[:, None]
-    sens = receptor_sensitivities(wl)
+    sens = sensitivities(wl, receptor_curves)
     catches = quantum_catches(irradiance, sens, wl)
     # Adaptation compares radiances: the acceptance solid angle cancels in every ratio.
     seen = quantum_catches(radiance, sens, wl)
@@ -273,7 +277,7 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
         raise InputError(scene_file, "colour.background",
                          f"the background {background!r} gives no catch in some receptor class; "
                          "von Kries adaptation needs a background every class sees")
-    overall = overall_sensitivity(wl)
+    overall = overall_sensitivity(wl, sens)
     brightness = quantum_catches(irradiance, (overall / overall.sum())[:, None], wl)[:, 0]
     write_table(responses_csv, {"id": table["id"], "side": table["side"],
                                 **{r: catches[:, k] for k, r in enumerate(RECEPTORS)},
@@ -389,7 +393,7 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
               (*RECEPTORS, "eyes"))
 
 
-def colour_figures(responses_csv, irradiance_npz, outputs, title=""):
+def colour_figures(responses_csv, irradiance_npz, outputs, title="", receptor_curves=TEMPLATE):
     """Stage 4c: every receptor's colour in the bee colour triangle and hexagon (Collins Fig. 5b).
 
     The spectral locus is isoquantal, as the lights of bee colour-vision
@@ -404,7 +408,7 @@ def colour_figures(responses_csv, irradiance_npz, outputs, title=""):
     q = np.column_stack([resp[r] for r in RECEPTORS])
     srgb = _bee_colours(q, data)[2]
     white = photon_flux(data["white_radiance"], wl).sum()
-    locus = colourspace.spectral_locus(receptor_sensitivities(wl), wl, data["background_q"], white)
+    locus = colourspace.spectral_locus(sensitivities(wl, receptor_curves), wl, data["background_q"], white)
     hexagon_outline = np.array([colourspace.HEXAGON_VERTICES[0], colourspace.HEXAGON_VERTICES[:2].sum(0),
                                 colourspace.HEXAGON_VERTICES[1], colourspace.HEXAGON_VERTICES[1:].sum(0),
                                 colourspace.HEXAGON_VERTICES[2], colourspace.HEXAGON_VERTICES[[0, 2]].sum(0)])
@@ -416,11 +420,12 @@ def colour_figures(responses_csv, irradiance_npz, outputs, title=""):
                          f"{title}: receptor colours in the colour hexagon (Chittka 1992)")
 
 
-def sensitivity_figure(spectral, path):
+def sensitivity_figure(spectral, path, receptor_curves=TEMPLATE):
     """Collins Fig. 6 and 5a: the receptor sensitivities and the overall S(λ), on the config's grid."""
     wl = wavelengths(spectral)
-    sens = receptor_sensitivities(wl)
-    figures.sensitivities(wl, sens, overall_sensitivity(wl, sens), path)
+    sens = sensitivities(wl, receptor_curves)
+    source = {} if receptor_curves == TEMPLATE else {"source": f"measured, {Path(receptor_curves).name}"}
+    figures.sensitivities(wl, sens, overall_sensitivity(wl, sens), path, **source)
 
 
 #: Peak wavelengths at which the Rayleigh limit is given, nm (Peitsch et al. 1992).

@@ -3,6 +3,7 @@
 from pathlib import Path
 
 from beeoptics import stages, sweeps
+from beeoptics.sensitivity import TEMPLATE
 
 EYES_DIR = Path(config["eyes_dir"])
 SCENES_DIR = Path(config["scenes_dir"])
@@ -31,6 +32,12 @@ def eye_sources(wildcards):
 
 def scene_sources(wildcards):
     return folder_files(SCENES_DIR / wildcards.scene)
+
+
+def sensitivity_files(wildcards=None):
+    """A CSV of measured receptor curves is an input: editing it reruns what uses it."""
+    curves = config["colour"]["sensitivities"]
+    return [] if curves == TEMPLATE else [curves]
 
 
 def trace_parts(wildcards):

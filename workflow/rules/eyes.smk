@@ -71,10 +71,13 @@ rule acuity:
 
 
 rule sensitivities:
+    input:
+        sensitivity_files(),
     output:
         report("results/figures/sensitivities.png", caption="../report/sensitivities.rst", category="Receptors"),
     params:
         spectral=config["spectral"],
+        receptor_curves=config["colour"]["sensitivities"],
     log:
         "results/logs/sensitivities.log",
     script:

@@ -46,9 +46,12 @@ rule colour_figures:
     input:
         responses="results/{eye}/{scene}/responses.csv",
         irradiance="results/{eye}/{scene}/irradiance.npz",
+        curves=sensitivity_files,
     output:
         triangle=report("results/{eye}/{scene}/triangle.png", caption="../report/colour_space.rst", category="Colour spaces", subcategory="{eye} in {scene}"),
         hexagon=report("results/{eye}/{scene}/hexagon.png", caption="../report/colour_space.rst", category="Colour spaces", subcategory="{eye} in {scene}"),
+    params:
+        receptor_curves=config["colour"]["sensitivities"],
     log:
         "results/logs/colour_figures/{eye}/{scene}.log",
     script:

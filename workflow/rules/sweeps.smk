@@ -54,6 +54,7 @@ use rule gather as sweep_gather with:
         receptors="results/sweeps/{sweep}/{variant}/eyes/{eye}/receptors.csv",
         scene=scene_sources,
         parts=sweep_parts,
+        curves=sensitivity_files,
     output:
         responses="results/sweeps/{sweep}/{variant}/{eye}/{scene}/responses.csv",
         irradiance="results/sweeps/{sweep}/{variant}/{eye}/{scene}/irradiance.npz",
@@ -61,6 +62,7 @@ use rule gather as sweep_gather with:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         background=config["colour"]["background"],
+        receptor_curves=config["colour"]["sensitivities"],
         light=lambda w: sweeps.light(sweep_variant(w)),
     log:
         "results/logs/sweeps/{sweep}/{variant}/gather/{eye}/{scene}.log",

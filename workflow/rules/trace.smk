@@ -28,6 +28,7 @@ rule gather:
         receptors="results/eyes/{eye}/receptors.csv",
         scene=scene_sources,
         parts=trace_parts,
+        curves=sensitivity_files,
     output:
         responses="results/{eye}/{scene}/responses.csv",
         irradiance="results/{eye}/{scene}/irradiance.npz",
@@ -35,6 +36,7 @@ rule gather:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         background=config["colour"]["background"],
+        receptor_curves=config["colour"]["sensitivities"],
         light={},
     log:
         "results/logs/gather/{eye}/{scene}.log",

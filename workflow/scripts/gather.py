@@ -10,4 +10,5 @@ with stages.logging_to(snakemake.log[0]):
         spectral=snakemake.params.spectral,
         background=snakemake.params.background,
         light=snakemake.params.light,
+        receptor_curves=snakemake.params.receptor_curves,
     )
