@@ -46,8 +46,9 @@ def test_a_run_stopped_mid_trace_completes_on_rerun_with_identical_outputs(tmp_p
     log = work / "results/logs/trace/tiny/flower/0_of_1.log"
     deadline = time.monotonic() + 300
     while not log.exists() and run.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.1)
-    time.sleep(2.0)
+        time.sleep(0.05)
+    # The trace job has started (its log opens first); it runs for seconds after that.
+    time.sleep(0.3)
     assert run.poll() is None and not (work / TRACED).exists(), "the trace ended before it could be stopped"
     # SIGINT is Ctrl-C, to every process of the run; SIGKILL gives nothing a chance to clean up.
     os.killpg(run.pid, sig)
