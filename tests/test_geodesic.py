@@ -41,3 +41,22 @@ def test_heat_distances_grow_with_arc_length():
     arc = np.arccos(np.clip(v @ v[top], -1, 1))
     assert np.corrcoef(d, arc)[0, 1] > 0.999
     np.testing.assert_allclose(d[arc > 0.3], arc[arc > 0.3], rtol=0.05)
+
+
+def test_a_geodesic_round_a_notch_in_the_rim_is_measured_not_lost():
+    # A flat square with a slit cut up from its lower edge: the straight segment between
+    # two points either side of the slit leaves the mesh, so the patch around it falls
+    # in two. The geodesic runs round the slit's top; it is not the chord, and not 0.
+    n = 40
+    x, y = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+    v = np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)])
+    i, j = np.meshgrid(np.arange(n), np.arange(n))
+    a = (j * (n + 1) + i).ravel()
+    quads = np.column_stack([a, a + 1, a + n + 2, a + n + 1])
+    centre = v[quads].mean(1)
+    keep = ~((np.abs(centre[:, 0] - 0.5) < 0.05) & (centre[:, 1] < 0.7))
+    f = np.vstack([quads[keep][:, [0, 1, 2]], quads[keep][:, [0, 2, 3]]])
+    points, faces = MeshQuery(v, f).project(np.array([[0.4, 0.5, 0.0], [0.6, 0.5, 0.0]]))
+    got = pair_distances(v, f, points, faces, np.array([[0, 1]]))[0]
+    corner = np.hypot(0.05, 0.2)  # to the slit's top corner, then across it and down
+    assert got == pytest.approx(2 * corner + 0.1, rel=2e-3)
