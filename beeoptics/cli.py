@@ -24,7 +24,7 @@ from beeoptics.eyefile import load_eye, load_eye_mesh
 from beeoptics.headframe import SIDES
 from beeoptics.receptors import read_receptors, write_receptors
 from beeoptics.scene import load_scene
-from beeoptics.validation import load_yaml, validate, validate_config
+from beeoptics.validation import check_background, load_yaml, validate, validate_config
 
 CONFIG_SCHEMA = Path(__file__).resolve().parents[1] / "workflow" / "schemas" / "config.schema.yaml"
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
@@ -139,8 +139,7 @@ def render(args):
     # Refused now rather than after a trace of minutes.
     if args.eye is not None:
         load_eye(args.eye)
-    if background != "scene" and background not in validate(load_yaml(args.scene), "scene", args.scene)["materials"]:
-        raise InputError(args.scene, "materials", f"no material {background!r} to adapt to (--background)")
+    check_background(args.scene, background, args.scene, "materials")
     names = ["responses.csv", "irradiance.npz", *(stages.IMAGES.values() if args.eye is not None else ())]
     with staged(args.output, names) as tmp:
         with _bar(args, "tracing", " receptors") as bar:

@@ -154,19 +154,26 @@ def validate_config(config, schema_path, source="config", folders=True):
                         f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
                         f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
                     )
-        # A named adapting background must be a material of every scene traced.
-        background = config.get("colour", {}).get("background", "scene")
-        if background != "scene":
-            root = Path(config["scenes_dir"])
-            scenes = [*config["scenes"], *(n for sweep in config.get("sweeps", {}).values() for n in sweep["scenes"])]
-            for name in dict.fromkeys(scenes):
-                scene = load_yaml(root / name / "scene.yaml")
-                materials = (scene.get("materials") if isinstance(scene, dict) else None) or {}
-                if background not in materials:
-                    raise InputError(source, "colour.background",
-                                     f"no material {background!r} in {root / name / 'scene.yaml'} "
-                                     f"(its materials: {', '.join(materials) or 'none'})")
+        root = Path(config["scenes_dir"])
+        scenes = [*config["scenes"], *(n for sweep in config.get("sweeps", {}).values() for n in sweep["scenes"])]
+        for name in dict.fromkeys(scenes):
+            check_background(root / name / "scene.yaml", config["colour"]["background"], source, "colour.background")
     return config
+
+
+def check_background(scene_file, background, source, field):
+    """Refuse a named adapting background that is not a material of the scene.
+
+    ``"scene"`` (the scene's mean) is always there. The error names
+    ``source`` and ``field``: the config key that asked for it, or the scene file.
+    """
+    if background == "scene":
+        return
+    scene = load_yaml(scene_file)
+    materials = (scene.get("materials") if isinstance(scene, dict) else None) or {}
+    if background not in materials:
+        raise InputError(source, field, f"no material {background!r} in {scene_file} "
+                         f"(its materials: {', '.join(materials) or 'none'})")
 
 
 class _Loader(yaml.SafeLoader):

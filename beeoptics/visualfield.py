@@ -33,12 +33,13 @@ import numpy as np
 import open3d as o3d
 from scipy.spatial import ConvexHull, cKDTree
 
+# A triangle of axes with an edge longer than this many Δφ of its ends spans a gap
+# in the lattice (its rim, or the far side of the sphere), not neighbours: the same
+# bound as the facet lattice's own neighbour triangulation uses.
+from beeoptics.relax import MAX_EDGE
+
 #: Bits of :attr:`VisualField.eyes`: which eyes see a direction.
 RIGHT, LEFT = 1, 2
-#: A triangle of axes with an edge longer than this many Δφ of its ends spans
-#: a gap in the lattice (its rim, or the far side of the sphere), not neighbours;
-#: the same bound as the facet lattice's neighbour triangulation.
-MAX_EDGE = 1.8
 
 
 class VisualField(NamedTuple):
