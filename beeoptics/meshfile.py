@@ -1,6 +1,7 @@
 """Reading triangle meshes, and refusing the ones that cannot be used.
 
-Meshes are read with pymeshlab, which knows OBJ, PLY, STL, OFF and glTF.
+Meshes are read with pymeshlab, which knows OBJ, PLY, STL, OFF and glTF
+(``.gltf`` and ``.glb``).
 An eye or scene mesh must exist, hold faces, be made of triangles (a
 polygon would be split along an arbitrary diagonal, so its shape would
 depend on the reader) and be manifold along its edges.
@@ -57,9 +58,25 @@ def read_mesh(path, patterns=False, source=None, field=""):
         raise InputError(path, "faces", "the mesh is not manifold: an edge is shared by more than two faces")
     if not patterns:
         return vertices, faces
-    colours = mesh.face_color_matrix()[:, :3] if mesh.has_face_color() else None
     uv = mesh.wedge_tex_coord_matrix().reshape(-1, 3, 2) if mesh.has_wedge_tex_coord() else None
-    return vertices, faces, colours, uv
+    return vertices, faces, _face_colours(mesh, faces), uv
+
+
+def _face_colours(mesh, faces):
+    """Face colours (m, 3), or None.
+
+    glTF has no face colours: pymeshlab puts a primitive's material colour
+    (``baseColorFactor``) on the primitive's own vertices. A face whose three
+    corners agree has that colour; if any face's corners differ, the mesh has
+    no face colours.
+    """
+    if mesh.has_face_color():
+        return mesh.face_color_matrix()[:, :3]
+    if mesh.has_vertex_color():
+        corners = mesh.vertex_color_matrix()[:, :3][faces]
+        if (corners == corners[:, :1]).all():
+            return corners[:, 0]
+    return None
 
 
 def write_mesh(path, vertices, faces, normals=None):

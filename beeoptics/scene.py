@@ -88,7 +88,9 @@ def _object(spec, base, names, source, index):
         out["face_material"] = np.full(len(f), names.index(spec["material"]), np.int32)
     elif "palette" in spec:
         if colours is None:
-            raise InputError(base / spec.get("mesh", ""), "faces", "a palette needs face colours in the mesh")
+            raise InputError(base / spec.get("mesh", ""), "faces",
+                             "a palette needs one colour per face (OBJ: a material per face; "
+                             "glTF: a material per primitive)")
         out["face_material"] = _palette_ids(colours, spec["palette"], names, source, f"{field}.palette")
     elif "texture" in spec:
         if uv is None:

@@ -1,0 +1,140 @@
+"""Scene meshes in every format the README names, and their patterns per face and per texel."""
+
+import base64
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+import yaml
+
+from beeoptics.errors import InputError
+from beeoptics.meshfile import read_mesh
+from beeoptics.optics import cone_samples
+from beeoptics.scene import load_scene
+from beeoptics.trace import trace_paths
+from conftest import write_scene
+
+FLOWER = Path(__file__).parent / "data" / "scenes" / "flower"
+SKY = {"gaussian": {"base": 0.01, "peak": 0.05, "centre_nm": 400, "width_nm": 50}}
+
+
+def write_gltf(path, vertices, faces, face_colours=None, uv=None):
+    """A glTF 2.0 file (``.gltf`` with an embedded buffer, or ``.glb``).
+
+    Faces of one colour form one primitive whose material has that
+    ``baseColorFactor``, as exporters write them. ``uv`` holds per-vertex
+    texture coordinates with v up (OBJ's convention); glTF's v points down.
+    """
+    vertices = np.asarray(vertices, np.float32)
+    colours = np.zeros((len(faces), 3)) if face_colours is None else np.asarray(face_colours)
+    groups = np.unique(colours, axis=0)
+    blob, views, accessors = b"", [], []
+
+    def add(array, kind, component, target):
+        nonlocal blob
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes, "target": target})
+        accessors.append({"bufferView": len(views) - 1, "componentType": component,
+                          "count": len(array), "type": kind})
+        blob += array.tobytes() + b"\0" * (-array.nbytes % 4)
+        return len(accessors) - 1
+
+    attributes = {"POSITION": add(vertices, "VEC3", 5126, 34962)}
+    accessors[0].update(min=vertices.min(0).tolist(), max=vertices.max(0).tolist())
+    if uv is not None:
+        st = np.column_stack([uv[:, 0], 1.0 - uv[:, 1]]).astype(np.float32)
+        attributes["TEXCOORD_0"] = add(st, "VEC2", 5126, 34962)
+    primitives, materials = [], []
+    for colour in groups:
+        these = np.asarray(faces)[(colours == colour).all(1)].astype(np.uint32).ravel()
+        primitives.append({"attributes": attributes, "indices": add(these, "SCALAR", 5125, 34963),
+                           "material": len(materials)})
+        materials.append({"pbrMetallicRoughness": {"baseColorFactor": [*map(float, colour), 1.0]}})
+    gltf = {"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0, "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": primitives}], "materials": materials,
+            "bufferViews": views, "accessors": accessors, "buffers": [{"byteLength": len(blob)}]}
+    path = Path(path)
+    if path.suffix == ".gltf":
+        gltf["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(blob).decode()
+        path.write_text(json.dumps(gltf))
+        return path
+    text = json.dumps(gltf).encode()
+    text += b" " * (-len(text) % 4)
+    chunks = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(blob), b"BIN\0") + blob
+    path.write_bytes(struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks)
+    return path
+
+
+def faces_and_materials(scene, name):
+    """Each face of the named object as (centroid x, y, z, material), sorted: independent of face order."""
+    o = next(o for o in scene.objects if o["name"] == name)
+    rows = np.column_stack([o["vertices"][o["faces"]].mean(1), o["face_material"]])
+    return rows[np.lexsort(rows.T[::-1])]
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_a_gltf_flower_reads_as_its_obj_with_a_material_per_face(tmp_path, wavelengths, suffix):
+    v, f, colours, _ = read_mesh(FLOWER / "daisy.obj", patterns=True)
+    write_gltf(tmp_path / f"daisy{suffix}", v, f, colours)
+    scene = yaml.safe_load((FLOWER / "scene.yaml").read_text())
+    scene["objects"][1]["mesh"] = f"daisy{suffix}"
+    spec = write_scene(tmp_path / "scene.yaml", scene)
+    want = faces_and_materials(load_scene(FLOWER / "scene.yaml", wavelengths), "flower")
+    got = faces_and_materials(load_scene(spec, wavelengths), "flower")
+    assert len(np.unique(want[:, 3])) == 2  # the centre and the tips: the pattern is there to compare
+    np.testing.assert_allclose(got, want, atol=1e-6)
+
+
+def test_a_gltf_whose_face_corners_differ_in_colour_cannot_take_a_palette(tmp_path, wavelengths):
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    path = tmp_path / "tri.gltf"
+    write_gltf(path, v, [[0, 1, 2]])
+    gltf = json.loads(path.read_text())
+    # Per-vertex colours that differ round the one face: no colour for the face as a whole.
+    colours = np.array([[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1]], np.float32).tobytes()
+    buffer = base64.b64decode(gltf["buffers"][0]["uri"].split(",")[1])
+    gltf["bufferViews"].append({"buffer": 0, "byteOffset": len(buffer), "byteLength": len(colours)})
+    gltf["accessors"].append({"bufferView": len(gltf["bufferViews"]) - 1, "componentType": 5126,
+                              "count": 3, "type": "VEC4"})
+    buffer += colours
+    gltf["buffers"] = [{"byteLength": len(buffer),
+                        "uri": "data:application/octet-stream;base64," + base64.b64encode(buffer).decode()}]
+    gltf["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = len(gltf["accessors"]) - 1
+    del gltf["meshes"][0]["primitives"][0]["material"]
+    path.write_text(json.dumps(gltf))
+    spec = write_scene(tmp_path / "scene.yaml", {
+        "name": "corners", "light": {"sky": "uniform", "radiance": 1.0, "sun": False},
+        "eye": {"position_m": [0, 0, 1]}, "materials": {"grey": {"reflectance": 0.3}},
+        "objects": [{"mesh": "tri.gltf", "palette": {"#ff0000": "grey"}}]})
+    with pytest.raises(InputError, match="tri.gltf.*one colour per face"):
+        load_scene(spec, wavelengths)
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_a_textured_gltf_gives_each_texel_its_material(tmp_path, wavelengths, suffix):
+    # A 1 m square, u along x and v along y, under a 2 × 2 checkerboard texture:
+    # the image's top-left texel covers the square's corner at low x and high y.
+    v = np.array([[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]], float)
+    write_gltf(tmp_path / f"board{suffix}", v, [[0, 1, 2], [0, 2, 3]], uv=v[:, :2] + 0.5)
+    image = np.array([[[1, 0, 0], [0, 0, 1]], [[0, 0, 1], [1, 0, 0]]], np.float32)
+    out = oiio.ImageBuf(oiio.ImageSpec(2, 2, 3, oiio.UINT8))
+    out.set_pixels(oiio.ROI(0, 2, 0, 2, 0, 1, 0, 3), image)
+    assert out.write(str(tmp_path / "board.png"))
+    spec = write_scene(tmp_path / "scene.yaml", {
+        "name": "board", "light": {"sky": "uniform", "radiance": SKY, "sun": False},
+        "eye": {"position_m": [0, 0, 1.0]},
+        "materials": {"dark": {"reflectance": 0.1}, "pale": {"reflectance": 0.7}},
+        "objects": [{"mesh": f"board{suffix}",
+                     "texture": {"image": "board.png", "palette": {"#ff0000": "dark", "#0000ff": "pale"}}}]})
+    scene = load_scene(spec, wavelengths)
+    # One narrow receptor on each quadrant's centre, from straight above.
+    targets = np.array([[-0.25, 0.25], [0.25, 0.25], [-0.25, -0.25], [0.25, -0.25]])
+    axes = np.column_stack([targets, -np.ones(4)])
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    dirs, w = cone_samples(axes, 1.0, 16, 1)
+    seen = trace_paths(scene, np.tile(scene.eye_position, (4, 1)), dirs, w, depth=2, seed=1)
+    # A Lambertian square under a uniform sky, seen from above, is ρ times the sky: the bounce sees only sky.
+    rho = np.array([0.1, 0.7, 0.7, 0.1])
+    np.testing.assert_allclose(seen, rho[:, None] * scene.sky.basis[0], rtol=1e-9)
