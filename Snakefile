@@ -1,11 +1,9 @@
 # beeoptics: what a honey bee sees of a scene, from eye meshes to bee-colour images.
 # Stages live in workflow/rules/<stage>.smk; every stage is a function of beeoptics.stages.
 
-from pathlib import Path
-
 from snakemake.utils import min_version, validate
 
-from beeoptics.validation import validate_config
+from beeoptics.validation import CONFIG_SCHEMA, validate_config
 
 min_version("9.0")
 
@@ -16,9 +14,9 @@ configfile: "config/config.yaml"
 report: "workflow/report/workflow.rst"
 
 
-validate(config, "workflow/schemas/config.schema.yaml")
+validate(config, str(CONFIG_SCHEMA))
 # Also stop at once, naming the key, when an eye class or scene has no folder.
-validate_config(config, Path(workflow.basedir) / "workflow/schemas/config.schema.yaml",
+validate_config(config, CONFIG_SCHEMA,
                 source=", ".join(map(str, workflow.configfiles)) or "config")
 
 

@@ -1,6 +1,6 @@
 """The command-line tool ``beeoptics``: the workflow's stages one at a time, outside Snakemake.
 
-Options the workflow's config also has default to ``workflow/schemas/config.schema.yaml``
+Options the workflow's config also has default to ``beeoptics/schemas/config.schema.yaml``
 and are checked against it, so a one-off run equals a workflow run with the default
 config. Bad input ends a run with one line naming the file and the field, exit status
 2, and the output folder as it was.
@@ -24,9 +24,8 @@ from beeoptics.eyefile import load_eye, load_eye_mesh
 from beeoptics.headframe import SIDES
 from beeoptics.receptors import read_receptors, write_receptors
 from beeoptics.scene import load_scene
-from beeoptics.validation import check_background, load_yaml, validate, validate_config
+from beeoptics.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
 
-CONFIG_SCHEMA = Path(__file__).resolve().parents[1] / "workflow" / "schemas" / "config.schema.yaml"
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
 SETTINGS = {
     "build-eye": [
@@ -61,9 +60,6 @@ FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "recepto
 @cache
 def schema_defaults():
     """The workflow config with every default filled in from its schema."""
-    if not CONFIG_SCHEMA.is_file():
-        raise InputError(CONFIG_SCHEMA, "", "no such file; the tool takes its defaults from the workflow's "
-                         "config schema, so install beeoptics from its repository (pip install -e)")
     return validate_config({}, CONFIG_SCHEMA, folders=False)
 
 

@@ -19,6 +19,10 @@ from jsonschema import Draft202012Validator, validators
 
 from beeoptics.errors import InputError
 
+#: The schemas: the workflow's config, an eye class, a scene.
+SCHEMAS = Path(__file__).parent / "schemas"
+CONFIG_SCHEMA = SCHEMAS / "config.schema.yaml"
+
 
 def _with_defaults(cls):
     check_properties = cls.VALIDATORS["properties"]
@@ -36,7 +40,7 @@ def _with_defaults(cls):
 
 @cache
 def _validator(schema_name):
-    return _schema_validator(Path(__file__).parent / "schemas" / f"{schema_name}.schema.yaml")
+    return _schema_validator(SCHEMAS / f"{schema_name}.schema.yaml")
 
 
 @cache
@@ -120,7 +124,7 @@ def validate_config(config, schema_path, source="config", folders=True):
     """Check the workflow's configuration, filling in defaults in place.
 
     The same check as the packaged schemas get: the first violation of
-    ``schema_path`` (``workflow/schemas/config.schema.yaml``) as one line
+    ``schema_path`` (:data:`CONFIG_SCHEMA`) as one line
     naming ``source`` and the dotted key, with a suggestion for a misspelt
     key; then, with ``folders``, that every eye class and scene named, in
     the run or in a sweep, has its folder, and that a named adapting

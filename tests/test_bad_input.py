@@ -28,11 +28,10 @@ from beeoptics.scene import load_scene
 from beeoptics.sensitivity import measured_sensitivities
 from beeoptics.spectra import read_pavo_csv
 from beeoptics.table import read_table, write_table
-from beeoptics.validation import validate_config
+from beeoptics.validation import CONFIG_SCHEMA, validate_config
 from conftest import ROOT, cap_mesh, write_scene
 
 DATA = ROOT / "tests" / "data"
-CONFIG_SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 WL = np.arange(300, 701, 10)
 
 

@@ -5,9 +5,10 @@ import yaml
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
+from beeoptics.validation import CONFIG_SCHEMA
 from conftest import ROOT
 
-SCHEMA = str(ROOT / "workflow" / "schemas" / "config.schema.yaml")
+SCHEMA = str(CONFIG_SCHEMA)
 
 
 def default():

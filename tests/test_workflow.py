@@ -41,7 +41,7 @@ def workdir(tmp_path_factory):
                             "sun_elevation_deg": [20, 70]}},
     }
     (work / "config.yaml").write_text(yaml.safe_dump(config))
-    # The workflow's own files (config schema, report captions) are found beside its Snakefile.
+    # The workflow's own files (report captions) are found beside its Snakefile.
     result = run(work)
     assert result.returncode == 0, result.stderr[-3000:]
     return work
