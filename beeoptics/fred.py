@@ -39,16 +39,20 @@ def database_path():
     return Path(spec.submodule_search_locations[0]) / "datasets" / "flowers.feather"
 
 
+SPECTRUM = ["data_id", "wavelengths", "reflectance"]
+
+
 @cache
-def _table():
-    df = pd.read_feather(database_path()).drop_duplicates()
-    df["reflectance"] = df["reflectance"].fillna(0.0)
-    return df
+def _spectra():
+    """Every spectrum's rows, sorted by data_id, then wavelength: ids, nm, reflectance."""
+    df = pd.read_feather(database_path(), columns=SPECTRUM).drop_duplicates()
+    df = df.sort_values(["data_id", "wavelengths"], kind="stable")
+    return df["data_id"].to_numpy(), df["wavelengths"].to_numpy(), df["reflectance"].fillna(0.0).to_numpy()
 
 
 def catalogue():
     """One row of metadata per spectrum (a pandas DataFrame)."""
-    return _table().drop(columns=["wavelengths", "reflectance"]).drop_duplicates("data_id")
+    return pd.read_feather(database_path()).drop(columns=SPECTRUM[1:]).drop_duplicates("data_id")
 
 
 def find(source="FReD", field="fred", **query):
@@ -72,10 +76,9 @@ def find(source="FReD", field="fred", **query):
 
 def reflectance(data_id, wavelengths, source="FReD", field="fred"):
     """One FReD spectrum on the grid, as a fraction in [0, 1]."""
-    df = _table()
-    rows = df[df["data_id"] == data_id].sort_values("wavelengths")
-    if rows.empty:
+    ids, nm, rho = _spectra()
+    rows = slice(*np.searchsorted(ids, [data_id, data_id + 1]))
+    if rows.start == rows.stop:
         raise InputError(source, field, f"no FReD spectrum with data_id {data_id}")
-    values = resample(rows["wavelengths"].to_numpy(), rows["reflectance"].to_numpy(), wavelengths,
-                      source, f"{field} (FReD data_id {data_id})")
+    values = resample(nm[rows], rho[rows], wavelengths, source, f"{field} (FReD data_id {data_id})")
     return np.clip(values, 0.0, 1.0)

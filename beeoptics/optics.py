@@ -89,12 +89,28 @@ def delta_rho(facet_diameter_um, model, fixed_deg=DELTA_RHO_WORKER_DEG,
 
 
 def tangent_frames(axes):
-    """Two unit vectors perpendicular to each axis and to each other, shape (n, 2, 3)."""
-    axes = np.asarray(axes, float)
-    helper = np.where(np.abs(axes[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    u = np.cross(axes, helper)
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    return np.stack([u, np.cross(axes, u)], 1)
+    """Two unit vectors perpendicular to each unit axis and to each other, shape (n, 2, 3).
+
+    The branchless basis of Duff et al. (2017): no cross products or
+    square roots, and continuous everywhere but across the plane z = 0.
+
+    References
+    ----------
+    Duff T, Burgess J, Christensen P, Hery C, Kensler A, Liani M, Villemin R
+    (2017) Building an orthonormal basis, revisited. J Comput Graph Tech 6:1–8.
+    """
+    x, y, z = np.asarray(axes, float).T
+    sign = np.where(z >= 0.0, 1.0, -1.0)
+    a = -1.0 / (sign + z)
+    b = x * y * a
+    frames = np.empty((len(x), 2, 3))
+    frames[:, 0, 0] = 1.0 + sign * x * x * a
+    frames[:, 0, 1] = sign * b
+    frames[:, 0, 2] = -sign * x
+    frames[:, 1, 0] = b
+    frames[:, 1, 1] = sign + y * y * a
+    frames[:, 1, 2] = -y
+    return frames
 
 
 def cone_samples(axes, delta_rho_deg, samples, seed, first=0):

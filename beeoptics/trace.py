@@ -47,6 +47,7 @@ import numpy as np
 import open3d as o3d
 from scipy import sparse
 
+from beeoptics.optics import tangent_frames
 from beeoptics.randomness import uniform
 from beeoptics.scene import raycasting_scene
 from beeoptics.sky import sky_coefficients
@@ -59,18 +60,14 @@ ROULETTE_AFTER = 2
 DIMENSIONS_PER_EVENT = 6
 
 
-def _frame(n):
-    helper = np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    t = np.cross(n, helper)
-    t /= np.linalg.norm(t, axis=1, keepdims=True)
-    return t, np.cross(n, t)
-
-
 def _around(axis, cos_t, phi):
-    t, b = _frame(axis)
+    """Unit directions at polar cosine ``cos_t`` and azimuth ``phi`` about ``axis``, (n, 3) or (3,)."""
+    frame = tangent_frames(np.reshape(axis, (-1, 3)))
     sin_t = np.sqrt(np.maximum(0.0, 1.0 - cos_t**2))
-    return (cos_t[:, None] * axis + (sin_t * np.cos(phi))[:, None] * t
-            + (sin_t * np.sin(phi))[:, None] * b)
+    out = cos_t[:, None] * axis
+    out += (sin_t * np.cos(phi))[:, None] * frame[:, 0]
+    out += (sin_t * np.sin(phi))[:, None] * frame[:, 1]
+    return out
 
 
 class _Tables:
@@ -114,16 +111,15 @@ class _Tables:
         return m
 
 
-def _cast(rs, origins, directions):
-    rays = o3d.core.Tensor(np.hstack([origins, directions]).astype(np.float32))
-    out = rs.cast_rays(rays)
+def _cast(rs, rays):
+    out = rs.cast_rays(o3d.core.Tensor(rays))
     return (out["t_hit"].numpy(), out["geometry_ids"].numpy().astype(np.int64),
             out["primitive_ids"].numpy().astype(np.int64), out["primitive_uvs"].numpy(),
             out["primitive_normals"].numpy().astype(np.float64))
 
 
 def _occluded(rs, origins, directions):
-    rays = o3d.core.Tensor(np.hstack([origins, directions]).astype(np.float32))
+    rays = o3d.core.Tensor(np.concatenate([origins, directions], axis=1, dtype=np.float32))
     return rs.test_occlusions(rays).numpy().astype(bool)
 
 
@@ -172,7 +168,7 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
         raise ValueError("depth must be at least 1")
     rs = rs if rs is not None else raycasting_scene(scene)
     tables = _Tables(scene)
-    if (depth + 1) * np.log2(tables.radix) > 62:
+    if (depth + 1) * np.log2(tables.radix) + np.log2(len(tables.lights)) > 62:
         raise ValueError(f"depth {depth} is too deep for {tables.radix - 1} materials")
     counts = counts if counts is not None else {}
     counts.setdefault("cast", 0)
@@ -183,8 +179,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
     bundle = np.repeat(np.arange(n), s)
     stream = bundle + first_stream
     sample = np.tile(np.arange(s), n)
-    o = np.repeat(origins, s, axis=0).astype(np.float64)
-    d = directions.reshape(-1, 3).astype(np.float64)
+    # Each ray as Embree takes it: origin and direction in single precision.
+    rays = np.empty((n * s, 6), np.float32)
+    rays[:, :3] = np.repeat(origins, s, axis=0)
+    rays[:, 3:] = directions.reshape(-1, 3)
     w = weights.reshape(-1).astype(np.float64)
     key = np.zeros(n * s, np.int64)
     bound = np.ones(n * s)  # an upper bound of the throughput's spectral maximum
@@ -198,12 +196,14 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
 
     alive = np.arange(n * s)
     for event in range(depth + 1):
-        t_hit, geometry, primitive, bary, normal = _cast(rs, o[alive], d[alive])
+        batch = rays[alive]
+        t_hit, geometry, primitive, bary, normal = _cast(rs, batch)
         counts["cast"] += len(alive)
+        d = batch[:, 3:].astype(np.float64)
         missed = ~np.isfinite(t_hit)
         # Light from the sky, and from the sun's disc on first sight only (after
         # a surface, next-event estimation has counted the sun).
-        out, dir_out = alive[missed], d[alive[missed]]
+        out, dir_out = alive[missed], d[missed]
         if scene.sky is not None and out.size:
             c = sky_coefficients(scene.sky, dir_out)
             for k in range(c.shape[1]):
@@ -211,8 +211,9 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
         if event == 0 and scene.sun is not None and out.size:
             seen = dir_out @ scene.sun.direction >= scene.sun.cos_radius
             emit(out[seen], tables.sun_light, w[out[seen]])
-        alive, t_hit, geometry, primitive, bary, normal = (
-            alive[~missed], t_hit[~missed], geometry[~missed], primitive[~missed], bary[~missed], normal[~missed])
+        hit = ~missed
+        alive, t_hit, geometry, primitive, bary, normal, d = (
+            alive[hit], t_hit[hit], geometry[hit], primitive[hit], bary[hit], normal[hit], d[hit])
         if alive.size == 0:
             break
         m = tables.material(geometry, primitive, bary)
@@ -221,8 +222,8 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
         if event == depth:
             break
 
-        p = o[alive] + t_hit[:, None] * d[alive]
-        wi = -d[alive]
+        p = batch[hit, :3] + t_hit[:, None] * d
+        wi = -d
         normal = np.where(((normal * wi).sum(1) < 0.0)[:, None], -normal, normal)
         start = p + eps * normal
         rnd = [uniform(seed, stream[alive], sample[alive], event * DIMENSIONS_PER_EVENT + j)
@@ -236,7 +237,7 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
         # Next-event estimation towards the sun's disc, sampled uniformly.
         if scene.sun is not None:
             cos_a = 1.0 - rnd[0] * (1.0 - scene.sun.cos_radius)
-            to_sun = _around(np.broadcast_to(scene.sun.direction, p.shape).copy(), cos_a, 2 * np.pi * rnd[1])
+            to_sun = _around(scene.sun.direction, cos_a, 2 * np.pi * rnd[1])
             cos_l = (normal * to_sun).sum(1)
             facing = np.flatnonzero(cos_l > 0.0)
             if facing.size:
@@ -269,8 +270,8 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
             w[alive] = np.where(survive, w[alive] / np.maximum(q, 1e-300), 0.0)
         keep = w[alive] > 0.0
         alive = alive[keep]
-        o[alive] = start[keep]
-        d[alive] = d_new[keep]
+        rays[alive, :3] = start[keep]
+        rays[alive, 3:] = d_new[keep]
         if alive.size == 0:
             break
 
@@ -279,14 +280,16 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
         return np.zeros((n, tables.lights.shape[1]))
     b, k, light, weight = (np.concatenate(c) for c in zip(*contributions))
     # Sum the weights of equal (bundle, sequence, light) triples, then weigh
-    # each distinct sequence-and-light spectrum once.
-    # Sequences first, then (sequence, light) pairs as one integer: sorting
-    # flat integers is many times faster than sorting rows.
-    sequences, sequence_of = np.unique(k, return_inverse=True)
+    # each distinct sequence-and-light spectrum once. The (sequence, light)
+    # pair is one integer, a column of a sparse matrix as wide as all the
+    # pairs there could be: summing duplicates needs no global sort, and
+    # only the columns used remain.
     n_lights = len(tables.lights)
-    combos, combo_of = np.unique(sequence_of * n_lights + light, return_inverse=True)
-    matrix = sparse.csr_matrix((weight, (b, combo_of)), shape=(n, len(combos)))
-    matrix.sum_duplicates()
-    spectra = (_product_spectra(sequences[combos // n_lights], scene.reflectance, tables.radix, depth)
+    wide = sparse.csr_matrix((weight, (b, k * n_lights + light)),
+                             shape=(n, tables.radix ** (depth + 1) * n_lights))
+    wide.sum_duplicates()
+    combos, column = np.unique(wide.indices, return_inverse=True)
+    matrix = sparse.csr_matrix((wide.data, column, wide.indptr), shape=(n, len(combos)))
+    spectra = (_product_spectra(combos // n_lights, scene.reflectance, tables.radix, depth)
                * tables.lights[combos % n_lights])
     return np.asarray(matrix @ spectra) / total[:, None]
