@@ -43,7 +43,8 @@ SETTINGS = {
         ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone"),
         ("--depth", "trace.depth", int, "scattering events per path; 1 is direct light only"),
         ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),
-        ("--batch-rays", "trace.batch_rays", int, "rays traced at once; bounds memory (about 200 bytes a ray)"),
+        ("--batch-rays", "trace.batch_rays", int, "rays one thread traces at once; bounds memory (about 600 "
+         "bytes a ray, times --threads)"),
         ("--start-nm", "spectral.start_nm", float, "first wavelength of the spectral grid, nm"),
         ("--end-nm", "spectral.end_nm", float, "last wavelength of the spectral grid, nm"),
         ("--step-nm", "spectral.step_nm", float, "spacing of the spectral grid, nm"),
@@ -144,7 +145,8 @@ def render(args):
                 bar.update(done - bar.n)
             stages.trace_part(args.receptors, args.scene, tmp / "radiance.npz", spectral=spectral,
                               samples_per_receptor=trace["samples_per_receptor"], depth=trace["depth"],
-                              seed=trace["seed"], batch_rays=trace["batch_rays"], progress=progress)
+                              seed=trace["seed"], batch_rays=trace["batch_rays"], threads=args.threads,
+                              progress=progress)
         stages.gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"], tmp / "responses.csv",
                                 tmp / "irradiance.npz", spectral=spectral, background=background,
                                 receptor_curves=config["colour"]["sensitivities"])
@@ -268,6 +270,16 @@ def _positive_or(*words):
     return parse
 
 
+def _count(text):
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number of at least 1, not {text!r}")
+    return value
+
+
 def parser():
     """The parser of every subcommand; the config settings' defaults come from the schema."""
     top = _Parser(prog="beeoptics", description=__doc__.split("\n\n")[0].replace("``", ""))
@@ -307,6 +319,9 @@ def parser():
                    "(without it, only responses.csv and irradiance.npz are written)")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path, help="folder for responses.csv, "
                    "irradiance.npz and the images " + ", ".join(stages.IMAGES.values()))
+    p.add_argument("--threads", type=_count, default=os.cpu_count(),
+                   help="batches traced at once; the result is the same for any number (default: %(default)s, "
+                   "the machine's cores)")
     p.add_argument("--quiet", **quiet)
     p.set_defaults(run=render)
     for command, options in SETTINGS.items():

@@ -152,7 +152,7 @@ def sky_coefficients(sky, directions):
         p = sky.params
         theta = np.arccos(np.clip(d[:, 2], -1.0, 1.0))
         theta = np.minimum(theta, np.pi / 2.0 - 1e-3)  # B/cos θ is singular at the horizon
-        gamma = np.arccos(np.clip(d @ p["sun"], -1.0, 1.0))
+        gamma = np.arccos(np.clip((d * p["sun"]).sum(1), -1.0, 1.0))
         big_y, x, _ = (p["norm"][k] * _perez(theta, gamma, p["perez"][k]) for k in ("Y", "x", "y"))
         # The daylight basis holds only chromaticities on the daylight locus; Preetham's
         # y strays a little above it (by up to 0.07 with the sun low), enough to drive the
@@ -164,7 +164,7 @@ def sky_coefficients(sky, directions):
         m1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m
         m2 = (0.0300 - 31.4424 * x + 30.0717 * y) / m
         w = np.column_stack([np.ones(n), m1, m2])
-        w *= (big_y / (w @ p["luminous"]))[:, None]
+        w *= (big_y / (w * p["luminous"]).sum(1))[:, None]
     if sky.hemisphere:
         w[d[:, 2] <= 0.0] = 0.0
     return w

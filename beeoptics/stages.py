@@ -8,6 +8,7 @@ tool call nothing else.
 import json
 import logging
 import time
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -191,19 +192,33 @@ def wavelengths(spectral):
     return grid(spectral["start_nm"], spectral["end_nm"], spectral["step_nm"])
 
 
-def _chunks(first, last, batch_rays, samples):
-    """Bounds of consecutive bundles whose rays together fit in one batch."""
+def _batches(trace, first, last, *, samples, batch_rays, threads):
+    """Run ``trace(lo, hi)`` over bundles ``first``..``last`` in batches, on ``threads`` threads.
+
+    A batch is as many consecutive bundles (receptors or pixels) as fit in
+    ``batch_rays`` rays of ``samples`` each. Yields ``(lo, hi), trace(lo, hi)``
+    in order. numpy and Embree release the GIL, so one thread shades its
+    batch while another's rays are cast. A bundle's random numbers depend on
+    nothing but its index, so the results do not depend on ``threads``.
+    """
     step = max(1, batch_rays // samples)
-    return [(lo, min(last, lo + step)) for lo in range(first, last, step)]
+    bounds = [(lo, min(last, lo + step)) for lo in range(first, last, step)]
+    pool = ThreadPoolExecutor(max(1, threads))
+    try:
+        yield from zip(bounds, pool.map(lambda b: trace(*b), bounds))
+    finally:
+        # Interrupted: finish only the batches already running.
+        pool.shutdown(cancel_futures=True)
 
 
 def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_receptor, depth, seed,
-               batch_rays, part=0, parts=1, light=None, progress=None):
+               batch_rays, threads=1, part=0, parts=1, light=None, progress=None):
     """Stage 3: trace the acceptance cones of one share of the receptors through a scene.
 
     Receptors are split into ``parts`` contiguous shares, for running on
     several machines; every receptor draws the same random numbers in any
     share, so the gathered result is bit-identical to a single part's.
+    ``threads`` batches of ``batch_rays`` rays are traced at once.
     Writes the share's receptor ids and spectral radiance; returns the ray counts.
     ``light`` overrides the scene's light section (sweeps).
     """
@@ -216,12 +231,19 @@ def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_rec
     first, last = bounds[part], bounds[part + 1]
     rs = raycasting_scene(scene)
     radiance = np.empty((last - first, len(wl)))
-    counts = {}
+    counts = {"cast": 0, "shadow": 0}
     start = time.perf_counter()
-    for lo, hi in _chunks(first, last, batch_rays, samples_per_receptor):
+
+    def trace(lo, hi):
         dirs, weights = optics.cone_samples(axes[lo:hi], drho[lo:hi], samples_per_receptor, seed, first=lo)
-        radiance[lo - first:hi - first] = trace_paths(scene, origins[lo:hi], dirs, weights, depth=depth,
-                                                      seed=seed, first_stream=lo, rs=rs, counts=counts)
+        cast = {}
+        return trace_paths(scene, origins[lo:hi], dirs, weights, depth=depth, seed=seed, first_stream=lo,
+                           rs=rs, counts=cast), cast
+
+    for (lo, hi), (result, cast) in _batches(trace, first, last, samples=samples_per_receptor,
+                                             batch_rays=batch_rays, threads=threads):
+        radiance[lo - first:hi - first] = result
+        counts = {k: counts[k] + cast[k] for k in counts}
         if progress is not None:
             progress(hi - first, last - first)
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
@@ -295,7 +317,7 @@ def _display(linear, scale):
     return colour.cctf_encoding(np.clip(v, 0.0, 1.0), function="sRGB")
 
 
-def human_view(scene_file, png, exr, *, spectral, samples_per_pixel, depth, seed, batch_rays):
+def human_view(scene_file, png, exr, *, spectral, samples_per_pixel, depth, seed, batch_rays, threads=1):
     """Stage 3b: what a person sees of a scene through its pinhole camera.
 
     Traced like the receptors, then mapped through the CIE 1931 observer to
@@ -307,10 +329,13 @@ def human_view(scene_file, png, exr, *, spectral, samples_per_pixel, depth, seed
     origin, dirs = camera.pinhole_rays(scene.camera, samples_per_pixel, seed)
     rs = raycasting_scene(scene)
     xyz = np.empty((len(dirs), 3))
-    for lo, hi in _chunks(0, len(dirs), batch_rays, samples_per_pixel):
-        radiance = trace_paths(scene, np.broadcast_to(origin, (hi - lo, 3)), dirs[lo:hi],
-                               np.ones((hi - lo, samples_per_pixel)), depth=depth, seed=seed,
-                               first_stream=lo, rs=rs)
+
+    def trace(lo, hi):
+        return trace_paths(scene, np.broadcast_to(origin, (hi - lo, 3)), dirs[lo:hi],
+                           np.ones((hi - lo, samples_per_pixel)), depth=depth, seed=seed, first_stream=lo, rs=rs)
+
+    for (lo, hi), radiance in _batches(trace, 0, len(dirs), samples=samples_per_pixel, batch_rays=batch_rays,
+                                       threads=threads):
         xyz[lo:hi] = camera.tristimulus(wl, radiance)
     shape = (scene.camera["height_px"], scene.camera["width_px"], 3)
     write_png(png, camera.srgb(xyz, np.percentile(xyz[:, 1], 99.0)).reshape(shape))

@@ -209,7 +209,7 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
             for k in range(c.shape[1]):
                 emit(out, k, w[out] * c[:, k])
         if event == 0 and scene.sun is not None and out.size:
-            seen = dir_out @ scene.sun.direction >= scene.sun.cos_radius
+            seen = (dir_out * scene.sun.direction).sum(1) >= scene.sun.cos_radius
             emit(out[seen], tables.sun_light, w[out[seen]])
         hit = ~missed
         alive, t_hit, geometry, primitive, bary, normal, d = (
@@ -281,15 +281,16 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
     b, k, light, weight = (np.concatenate(c) for c in zip(*contributions))
     # Sum the weights of equal (bundle, sequence, light) triples, then weigh
     # each distinct sequence-and-light spectrum once. The (sequence, light)
-    # pair is one integer, a column of a sparse matrix as wide as all the
-    # pairs there could be: summing duplicates needs no global sort, and
-    # only the columns used remain.
+    # pair is one integer, and so is the (bundle, pair) pair: sorting flat
+    # integers is many times faster than sorting rows. bincount adds in the
+    # order paths were emitted, and the product below in the order of the
+    # pairs, neither of which depends on the other bundles of the batch: a
+    # bundle's sum is the same to the last bit however the run is batched.
     n_lights = len(tables.lights)
-    wide = sparse.csr_matrix((weight, (b, k * n_lights + light)),
-                             shape=(n, tables.radix ** (depth + 1) * n_lights))
-    wide.sum_duplicates()
-    combos, column = np.unique(wide.indices, return_inverse=True)
-    matrix = sparse.csr_matrix((wide.data, column, wide.indptr), shape=(n, len(combos)))
+    combos, column = np.unique(k * n_lights + light, return_inverse=True)
+    cells, cell = np.unique(b * len(combos) + column, return_inverse=True)
+    matrix = sparse.csr_matrix((np.bincount(cell, weights=weight), (cells // len(combos), cells % len(combos))),
+                               shape=(n, len(combos)))
     spectra = (_product_spectra(combos // n_lights, scene.reflectance, tables.radix, depth)
                * tables.lights[combos % n_lights])
     return np.asarray(matrix @ spectra) / total[:, None]

@@ -5,8 +5,10 @@
 Uses results/eyes/<eye>/receptors.csv, building the eye first (in a child
 process, so that its memory is not counted) when it is missing. Then traces
 both eyes on the full spectral grid, exactly as the workflow's trace stage
-does, and casts the same number of rays as the trace cast, in batches of the
-same size, through Open3D's ``RaycastingScene.cast_rays`` alone.
+does with ``--cores all`` (the config's batch size, one batch per core), and
+casts the same number of rays as the trace cast through Open3D's
+``RaycastingScene.cast_rays`` alone, in batches of 2^20 receptor-cone rays,
+where Embree is fastest.
 
 The last line printed is one JSON object: eye, scene, spp, depth,
 receptors, rays (every ray the trace cast: primary, bounce and shadow),
@@ -17,6 +19,7 @@ bare_rays_per_s (bare ``cast_rays`` throughput on the same scene), ratio
 
 import argparse
 import json
+import os
 import resource
 import subprocess
 import sys
@@ -30,9 +33,10 @@ import open3d as o3d
 from beeoptics import optics, stages
 from beeoptics.receptors import read_receptors
 from beeoptics.scene import load_scene, raycasting_scene, receptors_in_world
+from beeoptics.validation import CONFIG_SCHEMA, validate_config
 
 ROOT = Path(__file__).resolve().parents[1]
-BATCH_RAYS = 1 << 20
+BARE_BATCH_RAYS = 1 << 20
 
 
 def build_eye(eye, receptors_csv):
@@ -50,7 +54,7 @@ def build_eye(eye, receptors_csv):
 def bare_rays_per_s(scene, origins, axes, drho, rays, seed):
     """Throughput of ``cast_rays`` alone on receptor-cone rays, batched as the trace batches."""
     rs = raycasting_scene(scene)
-    per = max(1, BATCH_RAYS // 256)
+    per = max(1, BARE_BATCH_RAYS // 256)
     dirs, _ = optics.cone_samples(axes[:per], drho[:per], 256, seed)
     batch = np.hstack([np.repeat(origins[:per], 256, axis=0), dirs.reshape(-1, 3)]).astype(np.float32)
     batch = o3d.core.Tensor(batch)
@@ -69,6 +73,9 @@ def main():
     parser.add_argument("--spp", type=int, default=256, help="samples per receptor (default: 256)")
     parser.add_argument("--depth", type=int, default=3, help="scattering events per path (default: 3)")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--threads", type=int, default=os.cpu_count(), help="threads (default: the cores, %(default)s)")
+    parser.add_argument("--batch-rays", type=int, default=validate_config({}, CONFIG_SCHEMA, folders=False)
+                        ["trace"]["batch_rays"], help="rays per batch (default: the config's, %(default)s)")
     args = parser.parse_args()
     receptors_csv = ROOT / "results" / "eyes" / args.eye / "receptors.csv"
     if not receptors_csv.exists():
@@ -81,7 +88,7 @@ def main():
         part = Path(tmp) / "radiance.npz"
         counts = stages.trace_part(receptors_csv, scene_file, part, spectral=spectral,
                                    samples_per_receptor=args.spp, depth=args.depth, seed=args.seed,
-                                   batch_rays=BATCH_RAYS)
+                                   batch_rays=args.batch_rays, threads=args.threads)
         stages.gather_responses(receptors_csv, scene_file, [part], Path(tmp) / "responses.csv",
                                 Path(tmp) / "irradiance.npz", spectral=spectral)
         wall = time.perf_counter() - start
@@ -96,7 +103,8 @@ def main():
     print(f"{args.eye} pair in {args.scene}: {len(origins)} receptors, {rays} rays in {wall:.1f} s; "
           f"{pipeline / 1e6:.2f} M rays/s against {bare / 1e6:.2f} M bare")
     print(json.dumps({
-        "eye": args.eye, "scene": args.scene, "spp": args.spp, "depth": args.depth,
+        "eye": args.eye, "scene": args.scene, "spp": args.spp, "depth": args.depth, "threads": args.threads,
+        "batch_rays": args.batch_rays,
         "receptors": len(origins), "rays": rays, "wall_s": round(wall, 2),
         "pipeline_rays_per_s": round(pipeline), "bare_rays_per_s": round(bare),
         "ratio": round(pipeline / bare, 3), "peak_memory_mb": round(peak, 1),

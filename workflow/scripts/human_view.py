@@ -11,4 +11,5 @@ with stages.logging_to(snakemake.log[0]):
         depth=t["depth"],
         seed=t["seed"],
         batch_rays=t["batch_rays"],
+        threads=snakemake.threads,
     )

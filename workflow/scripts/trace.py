@@ -11,6 +11,7 @@ with stages.logging_to(snakemake.log[0]):
         depth=t["depth"],
         seed=t["seed"],
         batch_rays=t["batch_rays"],
+        threads=snakemake.threads,
         part=int(snakemake.wildcards.part),
         parts=int(snakemake.wildcards.parts),
         light=snakemake.params.light,
