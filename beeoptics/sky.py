@@ -112,9 +112,10 @@ def uniform_sky(radiance, hemisphere=False):
     return Sky("uniform", np.asarray(radiance, float)[None, :], hemisphere, {})
 
 
-def _perez(theta, gamma, coeffs):
+def _perez(cos_theta, gamma, coeffs):
+    """Perez et al.'s sky distribution at zenith cosine ``cos_theta`` and angle ``gamma`` from the sun."""
     a, b, c, d, e = coeffs
-    return (1.0 + a * np.exp(b / np.cos(theta))) * (1.0 + c * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
+    return (1.0 + a * np.exp(b / cos_theta)) * (1.0 + c * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
 
 
 def preetham_sky(wavelengths, sun_direction, turbidity):
@@ -137,7 +138,7 @@ def preetham_sky(wavelengths, sun_direction, turbidity):
     powers = np.array([theta_s**3, theta_s**2, theta_s, 1.0])
     tt = np.array([t * t, t, 1.0])
     zenith = {"Y": zenith_y, "x": tt @ _ZENITH_X @ powers, "y": tt @ _ZENITH_Y @ powers}
-    norm = {k: zenith[k] / _perez(0.0, theta_s, perez[k]) for k in zenith}
+    norm = {k: zenith[k] / _perez(1.0, theta_s, perez[k]) for k in zenith}
     return Sky("preetham", s, True, {"sun": np.asarray(sun_direction, float), "perez": perez,
                                       "norm": norm, "luminous": luminous})
 
@@ -150,10 +151,9 @@ def sky_coefficients(sky, directions):
         w = np.ones((n, 1))
     else:
         p = sky.params
-        theta = np.arccos(np.clip(d[:, 2], -1.0, 1.0))
-        theta = np.minimum(theta, np.pi / 2.0 - 1e-3)  # B/cos θ is singular at the horizon
+        cos_theta = np.maximum(d[:, 2], np.cos(np.pi / 2.0 - 1e-3))  # B/cos θ is singular at the horizon
         gamma = np.arccos(np.clip((d * p["sun"]).sum(1), -1.0, 1.0))
-        big_y, x, _ = (p["norm"][k] * _perez(theta, gamma, p["perez"][k]) for k in ("Y", "x", "y"))
+        big_y, x = (p["norm"][k] * _perez(cos_theta, gamma, p["perez"][k]) for k in ("Y", "x"))
         # The daylight basis holds only chromaticities on the daylight locus; Preetham's
         # y strays a little above it (by up to 0.07 with the sun low), enough to drive the
         # spectrum negative below 330 nm. The locus's own y at Preetham's x keeps every

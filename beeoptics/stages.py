@@ -249,7 +249,8 @@ def trace_part(receptors_csv, scene_file, part_npz, *, spectral, samples_per_rec
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], time.perf_counter() - start)
     with atomic_path(part_npz) as tmp:
-        np.savez_compressed(tmp, id=table["id"][first:last], radiance=radiance)
+        # Uncompressed: zlib shrinks these spectra by 6 % and took a sixth of the stage's time.
+        np.savez(tmp, id=table["id"][first:last], radiance=radiance)
     return counts
 
 
@@ -306,9 +307,8 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
                                 "brightness": brightness,
                                 **colourspace.describe(seen, reference)})
     with atomic_path(irradiance_npz) as tmp:
-        np.savez_compressed(tmp, id=table["id"], wavelength_nm=wl, radiance=radiance.astype(np.float32),
-                            irradiance=irradiance.astype(np.float32), background_q=reference,
-                            white_radiance=white)
+        np.savez(tmp, id=table["id"], wavelength_nm=wl, radiance=radiance.astype(np.float32),
+                 irradiance=irradiance.astype(np.float32), background_q=reference, white_radiance=white)
 
 
 def _display(linear, scale):

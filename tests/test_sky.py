@@ -30,7 +30,7 @@ def test_zenith_spectrum_has_the_models_luminance_and_chromaticity(clear, wavele
 def _perez0(p, k, s):
     from beeoptics.sky import _perez
 
-    return _perez(0.0, np.arccos(s[2]), p["perez"][k])
+    return _perez(1.0, np.arccos(s[2]), p["perez"][k])
 
 
 def test_preetham_zenith_luminance_formula():
