@@ -44,10 +44,8 @@ SPECTRUM = ["data_id", "wavelengths", "reflectance"]
 
 @cache
 def _spectra():
-    """Every spectrum's rows, sorted by data_id, then wavelength: ids, nm, reflectance."""
-    df = pd.read_feather(database_path(), columns=SPECTRUM).drop_duplicates()
-    df = df.sort_values(["data_id", "wavelengths"], kind="stable")
-    return df["data_id"].to_numpy(), df["wavelengths"].to_numpy(), df["reflectance"].fillna(0.0).to_numpy()
+    """The spectral columns of every row: data_id, wavelength (nm), reflectance."""
+    return pd.read_feather(database_path(), columns=SPECTRUM)
 
 
 def catalogue():
@@ -76,9 +74,10 @@ def find(source="FReD", field="fred", **query):
 
 def reflectance(data_id, wavelengths, source="FReD", field="fred"):
     """One FReD spectrum on the grid, as a fraction in [0, 1]."""
-    ids, nm, rho = _spectra()
-    rows = slice(*np.searchsorted(ids, [data_id, data_id + 1]))
-    if rows.start == rows.stop:
+    df = _spectra()
+    rows = df[df["data_id"].to_numpy() == data_id].drop_duplicates().sort_values("wavelengths", kind="stable")
+    if rows.empty:
         raise InputError(source, field, f"no FReD spectrum with data_id {data_id}")
-    values = resample(nm[rows], rho[rows], wavelengths, source, f"{field} (FReD data_id {data_id})")
+    values = resample(rows["wavelengths"].to_numpy(), rows["reflectance"].fillna(0.0).to_numpy(), wavelengths,
+                      source, f"{field} (FReD data_id {data_id})")
     return np.clip(values, 0.0, 1.0)
