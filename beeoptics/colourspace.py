@@ -69,6 +69,10 @@ HEXAGON_VERTICES = np.array([
     [np.sqrt(3.0) / 2.0, -0.5],
 ])
 
+#: The hexagon's outline, UV first, clockwise: each receptor vertex, then the
+#: corner where it and the next receptor are fully excited (their vector sum).
+HEXAGON_OUTLINE = np.stack([HEXAGON_VERTICES, HEXAGON_VERTICES + np.roll(HEXAGON_VERTICES, -1, 0)], 1).reshape(6, 2)
+
 #: The six coarse bee-hue sectors of 60°, clockwise from the B vertex, each
 #: starting 30° before the direction it is named after (Chittka et al. 1994;
 #: pavo ``R/internal.R@0365a68becb92ee3b1fffe351389b7995b646834``, ``coarse_sec``).

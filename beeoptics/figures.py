@@ -81,7 +81,7 @@ def eye_map(points, values, boundary_xy, path, label, title):
     save(fig, path)
 
 
-def sensitivities(wavelengths, receptors, overall, path, source="Govardovskii A1, λmax 344/436/544 nm"):
+def sensitivities(wavelengths, receptors, overall, path, source):
     """Collins Fig. 6 and Fig. 5a: the receptor curves and the overall sensitivity S(λ).
 
     Parameters

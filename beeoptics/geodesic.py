@@ -145,11 +145,12 @@ def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, wid
     # On a smooth surface a geodesic this short exceeds its chord by ~1e-4. One
     # shorter than its chord never reached its end: near a notch in the rim the
     # segment leaves the mesh and cuts the patch in two, and MMP then gives 0.
-    lost = todo[~((out[todo] >= (1.0 - 1e-6) * length) & (out[todo] < _DETOUR * length))]
+    short = out[todo] < (1.0 - 1e-6) * length
+    lost = todo[short | ~(out[todo] < _DETOUR * length)]
     if lost.size and widen > 0:
         out[lost] = pair_distances(vertices, faces, points, point_faces, pairs[lost], 4.0 * margin, widen - 1)
-    elif lost.size and (out[lost] < (1.0 - 1e-6) * length[np.searchsorted(todo, lost)]).any():
-        raise RuntimeError(f"{lost.size} geodesics could not be measured on patches {margin:.3g} wide")
+    elif short.any():
+        raise RuntimeError(f"{short.sum()} geodesics could not be measured on patches {margin:.3g} wide")
     return out
 
 

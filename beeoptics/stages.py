@@ -28,6 +28,7 @@ from beeoptics.sensitivity import LAMBDA_MAX_APIS, RECEPTORS, TEMPLATE, overall_
 from beeoptics.spectra import grid
 from beeoptics.table import read_table, write_table
 from beeoptics.trace import trace_paths
+from beeoptics.validation import check_background
 from beeoptics.atomic import atomic_path
 from beeoptics.eyefile import load_eye, load_eye_mesh
 from beeoptics.facetmap import anchor_vertices, diameter_map
@@ -292,8 +293,7 @@ def gather_responses(receptors_csv, scene_file, part_npzs, responses_csv, irradi
     if background == "scene":
         reference = seen.mean(axis=0)
     else:
-        if background not in scene.material_names:
-            raise InputError(scene_file, "materials", f"no material {background!r} to adapt to (colour.background)")
+        check_background(scene_file, background, scene_file, "materials")
         rho = scene.reflectance[scene.material_names.index(background)]
         reference = quantum_catches((rho * white)[None], sens, wl)[0]
     if not (reference > 0.0).all():
@@ -434,13 +434,10 @@ def colour_figures(responses_csv, irradiance_npz, outputs, title="", receptor_cu
     srgb = _bee_colours(q, data)[2]
     white = photon_flux(data["white_radiance"], wl).sum()
     locus = colourspace.spectral_locus(sensitivities(wl, receptor_curves), wl, data["background_q"], white)
-    hexagon_outline = np.array([colourspace.HEXAGON_VERTICES[0], colourspace.HEXAGON_VERTICES[:2].sum(0),
-                                colourspace.HEXAGON_VERTICES[1], colourspace.HEXAGON_VERTICES[1:].sum(0),
-                                colourspace.HEXAGON_VERTICES[2], colourspace.HEXAGON_VERTICES[[0, 2]].sum(0)])
     figures.colour_space(np.column_stack([resp["tri_x"], resp["tri_y"]]), srgb, colourspace.TRIANGLE_VERTICES,
                          (locus.wavelengths, locus.triangle), outputs["triangle"],
                          f"{title}: receptor colours in the bee colour triangle")
-    figures.colour_space(np.column_stack([resp["hex_x"], resp["hex_y"]]), srgb, hexagon_outline,
+    figures.colour_space(np.column_stack([resp["hex_x"], resp["hex_y"]]), srgb, colourspace.HEXAGON_OUTLINE,
                          (locus.wavelengths, locus.hexagon), outputs["hexagon"],
                          f"{title}: receptor colours in the colour hexagon (Chittka 1992)")
 
@@ -449,8 +446,9 @@ def sensitivity_figure(spectral, path, receptor_curves=TEMPLATE):
     """Collins Fig. 6 and 5a: the receptor sensitivities and the overall S(λ), on the config's grid."""
     wl = wavelengths(spectral)
     sens = sensitivities(wl, receptor_curves)
-    source = {} if receptor_curves == TEMPLATE else {"source": f"measured, {Path(receptor_curves).name}"}
-    figures.sensitivities(wl, sens, overall_sensitivity(wl, sens), path, **source)
+    source = (f"Govardovskii A1, λmax {'/'.join(f'{lam:g}' for lam in LAMBDA_MAX_APIS)} nm"
+              if receptor_curves == TEMPLATE else f"measured, {Path(receptor_curves).name}")
+    figures.sensitivities(wl, sens, overall_sensitivity(wl, sens), path, source)
 
 
 #: Peak wavelengths at which the Rayleigh limit is given, nm (Peitsch et al. 1992).
@@ -463,7 +461,8 @@ def acuity_table(receptors_csvs, path, width_px=720):
     Columns: receptor count; percentiles 5/50/95 of Δφ and Δρ (°); the
     highest spatial frequency the lattice resolves, f_max = 1/(2Δφ)
     (cycles/°, Nyquist; Snyder 1977) at the median and 5th-percentile Δφ;
-    median facet diameter D (µm); the Rayleigh limit 1.22 λ/D (°) at each
+    median facet diameter D (µm); the Rayleigh limit 1.22 λ/D (°; the first
+    zero of the Airy pattern, Airy 1835, Rayleigh 1879; Land 1997 for compound eyes) at each
     receptor's λmax for the median and largest facet; the solid angle each
     eye sees and the binocular overlap (sr, at half sensitivity, see
     :mod:`beeoptics.visualfield`).

@@ -14,7 +14,7 @@ rule trace:
         light={},
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
-    # Open3D traces on every core it has; Snakemake gives a job at most --cores of them.
+    # One batch of rays per thread (beeoptics.stages._batches); Snakemake caps this at --cores.
     threads: 8
     resources:
         mem_mb=4000,
@@ -59,7 +59,7 @@ rule human_view:
         samples_per_pixel=config["human_view"]["samples_per_pixel"],
     log:
         "results/logs/human_view/{scene}.log",
-    # Open3D traces on every core it has; Snakemake gives a job at most --cores of them.
+    # One batch of rays per thread (beeoptics.stages._batches); Snakemake caps this at --cores.
     threads: 8
     resources:
         mem_mb=4000,
