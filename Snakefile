@@ -1,9 +1,12 @@
 # beeoptics: what a honey bee sees of a scene, from eye meshes to bee-colour images.
-# Stages live in workflow/rules/<stage>.smk; every stage is a function of beeoptics.stages.
+# Stages live in workflow/rules/<stage>.smk; each calls one function of beeoptics.pipeline.
 
-from snakemake.utils import min_version, validate
+import sys
 
-from beeoptics.validation import CONFIG_SCHEMA, validate_config
+from snakemake.utils import min_version
+
+from beeoptics.io.errors import InputError
+from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
 
 min_version("9.0")
 
@@ -14,10 +17,12 @@ configfile: "config/config.yaml"
 report: "workflow/report/workflow.rst"
 
 
-validate(config, str(CONFIG_SCHEMA))
-# Also stop at once, naming the key, when an eye class or scene has no folder.
-validate_config(config, CONFIG_SCHEMA,
-                source=", ".join(map(str, workflow.configfiles)) or "config")
+# Checked once, defaults filled in; a wrong key or value, or an eye class or scene
+# without its folder, stops the run at once with one line naming it.
+try:
+    validate_config(config, CONFIG_SCHEMA, source=", ".join(map(str, workflow.configfiles)) or "config")
+except InputError as e:
+    sys.exit(f"beeoptics: error: {e}")
 
 
 include: "workflow/rules/common.smk"

@@ -1,6 +1,6 @@
 """The command-line tool ``beeoptics``: the workflow's stages one at a time, outside Snakemake.
 
-Options the workflow's config also has default to ``beeoptics/schemas/config.schema.yaml``
+Options the workflow's config also has default to ``beeoptics/io/schemas/config.schema.yaml``
 and are checked against it, so a one-off run equals a workflow run with the default
 config. Bad input ends a run with one line naming the file and the field, exit status
 2, and the output folder as it was.
@@ -18,13 +18,20 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from beeoptics import interchange, stages
-from beeoptics.errors import InputError
-from beeoptics.eyefile import load_eye, load_eye_mesh
-from beeoptics.headframe import SIDES
-from beeoptics.receptors import read_receptors, write_receptors
-from beeoptics.scene import load_scene
-from beeoptics.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
+from beeoptics.eye.description import load_eye, load_eye_mesh
+from beeoptics.eye.optics import AcceptanceModel
+from beeoptics.eye.receptors import measure_spacing
+from beeoptics.headframe import RIGHT, SIDES
+from beeoptics.io import interchange
+from beeoptics.io.errors import InputError
+from beeoptics.io.receptortable import read_receptors, write_receptors
+from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
+from beeoptics.light.batching import TraceSettings
+from beeoptics.light.scene import load_scene
+from beeoptics.pipeline.eyes import FACET_OUTPUTS, build_facets, remesh_eye
+from beeoptics.pipeline.images import IMAGES, retinal_images
+from beeoptics.pipeline.trace import gather_responses, trace_part
+from beeoptics.spectra import grid
 
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
 SETTINGS = {
@@ -107,22 +114,22 @@ def _bar(args, desc, unit):
 def build_eye(args):
     """Remesh an eye, place and relax its facets, and describe every receptor of both eyes."""
     eye = settings(args)["eye"]
-    names = ["remeshed.ply", "receptors.csv", "quality.json", "relaxation.npz"] + ["receptors.ply"] * args.ply
+    names = ["remeshed.ply", *FACET_OUTPUTS.values()] + ["receptors.ply"] * args.ply
     with staged(args.output, names) as tmp:
-        stages.remesh_eye(args.eye, tmp / "remeshed.ply", edge_fraction=eye["edge_fraction"])
+        remesh_eye(args.eye, {"remeshed": tmp / "remeshed.ply"}, edge_fraction=eye["edge_fraction"])
         with _bar(args, "relaxing facets", " it") as bar:
             def progress(iteration, largest_mm):
                 # The iterations needed are not known in advance: show how far from rest instead.
                 bar.set_postfix_str(f"largest move {largest_mm * 1e3:.3g} µm (stops below {eye['tolerance_um']:g})",
                                     refresh=False)
                 bar.update(iteration + 1 - bar.n)
-            stages.place_facets(args.eye, tmp / "remeshed.ply", tmp / "receptors.csv", tmp / "quality.json",
-                                tmp / "relaxation.npz", tolerance_um=eye["tolerance_um"], delta_rho=eye["delta_rho"],
-                                progress=progress)
+            build_facets(args.eye, tmp / "remeshed.ply", {k: tmp / name for k, name in FACET_OUTPUTS.items()},
+                         tolerance_um=eye["tolerance_um"], acceptance=AcceptanceModel.from_config(eye["delta_rho"]),
+                         progress=progress)
         table = read_receptors(tmp / "receptors.csv")
         if args.ply:
             interchange.write_receptor_ply(tmp / "receptors.ply", table)
-    print(f"{args.output}: {len(table['id']) // 2} facets per eye; wrote {', '.join(names)}")
+    print(f"{args.output}: {len(table.id) // 2} facets per eye; wrote {', '.join(names)}")
 
 
 def render(args):
@@ -132,28 +139,25 @@ def render(args):
     no retinal images, which need the eye's placement on the head.
     """
     config = settings(args)
-    trace, spectral, background = config["trace"], config["spectral"], config["colour"]["background"]
+    spectral, background = config["spectral"], config["colour"]["background"]
     # Refused now rather than after a trace of minutes.
     if args.eye is not None:
         load_eye(args.eye)
     check_background(args.scene, background, args.scene, "materials")
-    names = ["responses.csv", "irradiance.npz", *(stages.IMAGES.values() if args.eye is not None else ())]
+    names = ["responses.csv", "irradiance.npz", *(IMAGES.values() if args.eye is not None else ())]
     with staged(args.output, names) as tmp:
         with _bar(args, "tracing", " receptors") as bar:
             def progress(done, total):
                 bar.total = total
                 bar.update(done - bar.n)
-            stages.trace_part(args.receptors, args.scene, tmp / "radiance.npz", spectral=spectral,
-                              samples_per_receptor=trace["samples_per_receptor"], depth=trace["depth"],
-                              seed=trace["seed"], batch_rays=trace["batch_rays"], threads=args.threads,
-                              progress=progress)
-        stages.gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"], tmp / "responses.csv",
-                                tmp / "irradiance.npz", spectral=spectral, background=background,
-                                receptor_curves=config["colour"]["sensitivities"])
+            trace_part(args.receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
+                       settings=TraceSettings.from_config(config["trace"], args.threads), progress=progress)
+        gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"],
+                         {"responses": tmp / "responses.csv", "irradiance": tmp / "irradiance.npz"},
+                         spectral=spectral, background=background, receptor_curves=config["colour"]["sensitivities"])
         if args.eye is not None:
-            stages.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
-                                  {key: tmp / name for key, name in stages.IMAGES.items()},
-                                  width_px=config["images"]["width_px"])
+            retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+                           {key: tmp / name for key, name in IMAGES.items()}, width_px=config["images"]["width_px"])
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
@@ -165,20 +169,31 @@ def _format(path):
     return suffix
 
 
-def read_any(path, args):
-    """A receptor table from a ``.csv``, ``.eye`` or ``.ply`` file, with the options' conventions."""
+def read_receptor_file(path, args):
+    """A receptor table from a ``.csv``, ``.eye`` or ``.ply`` file, with the options' conventions.
+
+    A ``.eye`` file holds no Δφ or facet diameter: unless the options give
+    them, Δφ is measured from neighbouring axes, and the facet diameter from
+    neighbouring positions when ``--facet-diameter-um spacing`` asks for it.
+    """
     kind = _format(path)
-    if kind == ".eye":
-        return interchange.read_compoundray_eye(path, side=args.side or "right", units=args.units, frame=args.frame,
-                                                acceptance=args.acceptance, delta_phi=args.delta_phi_deg,
-                                                facet_diameter_um=args.facet_diameter_um)
-    return read_receptors(path) if kind == ".csv" else interchange.read_receptor_ply(path)
+    if kind == ".csv":
+        return read_receptors(path)
+    if kind == ".ply":
+        return interchange.read_receptor_ply(path)
+    spacing = args.facet_diameter_um == "spacing"
+    table = interchange.read_compoundray_eye(path, side=args.side or RIGHT, units=args.units, frame=args.frame,
+                                             angle_convention=args.acceptance, delta_phi_deg=args.delta_phi_deg,
+                                             facet_diameter_um=None if spacing else args.facet_diameter_um)
+    if args.delta_phi_deg is None or spacing:
+        table = measure_spacing(table, path, delta_phi_deg=args.delta_phi_deg is None, facet_diameter_um=spacing)
+    return table
 
 
 def convert(args):
     """Convert a receptor table to another format, each chosen by the file's extension."""
     kind = _format(args.output)
-    table = read_any(args.input, args)
+    table = read_receptor_file(args.input, args)
     side = None if kind != ".eye" or args.side == "auto" else args.side
     try:
         if kind == ".csv":
@@ -186,15 +201,17 @@ def convert(args):
         elif kind == ".ply":
             interchange.write_receptor_ply(args.output, table, quality=None if args.quality == "none" else args.quality)
         else:
-            focal = table.get("focal_offset_mm", 0.0) if args.focal_offset_mm is None else args.focal_offset_mm
+            focal = args.focal_offset_mm
+            if focal is None:
+                focal = 0.0 if table.focal_offset_mm is None else table.focal_offset_mm
             interchange.write_compoundray_eye(args.output, table, side=side, units=args.units, frame=args.frame,
-                                              acceptance=args.acceptance, focal_offset_mm=focal)
+                                              angle_convention=args.acceptance, focal_offset_mm=focal)
     except InputError:
         raise
     except ValueError as e:
         # The writers refuse what the table holds (a NaN, no receptor on a side): the input is at fault.
         raise InputError(args.input, "", str(e)) from None
-    written = np.sum(np.asarray(table["side"]).astype(str) == side) if side else len(table["id"])
+    written = np.sum(np.asarray(table.side).astype(str) == side) if side else len(table.id)
     print(f"{args.output}: {written} receptors")
 
 
@@ -210,34 +227,36 @@ def info(args):
     """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye or .ply)."""
     path = Path(args.path)
     if path.suffix.lower() not in (".yaml", ".yml"):
-        t = read_any(path, args)
-        side = np.asarray(t["side"]).astype(str)
+        t = read_receptor_file(path, args)
+        side = np.asarray(t.side).astype(str)
         print(f"receptors: {len(side)} ({', '.join(f'{s} {np.sum(side == s)}' for s in SIDES)})")
-        for label, column in (("facet diameter, µm", "facet_diameter_um"), ("Δφ, degrees", "delta_phi_deg"),
-                              ("Δρ, degrees", "delta_rho_deg")):
-            print(f"{label}: {_stats(t[column])}")
+        for label, column in (("facet diameter, µm", t.facet_diameter_um), ("Δφ, degrees", t.delta_phi_deg),
+                              ("Δρ, degrees", t.delta_rho_deg)):
+            print(f"{label}: {_stats(column)}")
         return
     data = load_yaml(path)
     if isinstance(data, dict) and {"mesh", "placement", "facets", "facet_diameter"} & set(data):
         eye = load_eye(path)
         vertices, faces = load_eye_mesh(eye)
-        p, f = eye["placement"], eye["facets"]
-        print(f"eye: {eye['name']}" + "".join(f", {k} {eye[k]}" for k in ("species", "caste") if k in eye))
-        print(f"facets per eye, published: {f['count']}" + (f" ± {f['sd']}" if "sd" in f else ""))
-        print(f"mesh: {eye['mesh_path']}, {len(vertices)} vertices, {len(faces)} faces, "
+        doc = eye.document
+        p = doc["placement"]
+        print(f"eye: {eye.name}" + "".join(f", {k} {doc[k]}" for k in ("species", "caste") if k in doc))
+        print(f"facets per eye, published: {eye.facet_count}"
+              + (f" ± {eye.facet_count_sd}" if eye.facet_count_sd is not None else ""))
+        print(f"mesh: {eye.mesh_path}, {len(vertices)} vertices, {len(faces)} faces, "
               f"{np.ptp(vertices, axis=0).max():.3g} mm across")
         print(f"placement: axis azimuth {p['axis_azimuth_deg']}°, elevation {p['axis_elevation_deg']}°, "
               f"roll {p['roll_deg']}°, origin {p['origin_mm']} mm")
-        for a in eye["facet_diameter"]["anchors"]:
+        for a in eye.anchors:
             print(f"anchor {a['name']}: {a['diameter_um']} µm at azimuth {a['azimuth_deg']}°, "
                   f"elevation {a['elevation_deg']}°")
         for section in ("optics", "published"):
-            for key, value in eye.get(section, {}).items():
+            for key, value in doc.get(section, {}).items():
                 if key != "source":
                     value = {k: v for k, v in value.items() if k != "source"} if isinstance(value, dict) else value
                     print(f"{section}.{key}: {value}")
         return
-    scene = load_scene(path, stages.wavelengths(schema_defaults()["spectral"]))
+    scene = load_scene(path, grid(**schema_defaults()["spectral"]))
     data = validate(data, "scene", path)
     light, head, cam = data["light"], data["eye"], scene.camera
     print(f"scene: {scene.name}")
@@ -248,8 +267,8 @@ def info(args):
           f"{cam['width_px']} × {cam['height_px']} px" + ("" if "camera" in data else " (default: the bee's view)"))
     print(f"materials: {', '.join(scene.material_names)}")
     for o in scene.objects:
-        ids = np.unique(o["face_material"] if o["texture"] is None else o["texture"])
-        print(f"object {o['name']}: {len(o['faces'])} triangles of {', '.join(scene.material_names[i] for i in ids)}")
+        ids = np.unique(o.face_material if o.texture is None else o.texture)
+        print(f"object {o.name}: {len(o.faces)} triangles of {', '.join(scene.material_names[i] for i in ids)}")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -285,7 +304,7 @@ def parser():
     top = _Parser(prog="beeoptics", description=__doc__.split("\n\n")[0].replace("``", ""))
     sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
     eyefile = _Parser(add_help=False)
-    g = eyefile.add_argument_group("CompoundRay .eye conventions (see beeoptics.interchange)")
+    g = eyefile.add_argument_group("CompoundRay .eye conventions (see beeoptics.io.interchange)")
     g.add_argument("--units", type=_positive_or("m", "mm"), default="m",
                    help="lengths in the .eye file: m (glTF's metres), mm, or file units per mm (default: %(default)s)")
     g.add_argument("--frame", choices=["camera", "head"], default="camera",
@@ -294,7 +313,7 @@ def parser():
     g.add_argument("--acceptance", choices=["fwhm", "variance"], default="fwhm",
                    help="the file's acceptance angle, radians, is Δρ (fwhm, CompoundRay's definition) or √2·Δρ "
                         "(variance: the same angular blur as the receptor's) (default: %(default)s)")
-    g.add_argument("--side", choices=["right", "left", "auto"],
+    g.add_argument("--side", choices=[*SIDES, "auto"],
                    help="reading a .eye: the eye it holds, or auto to split it by the sign of head-frame y "
                         "(default: right); writing a .eye: only that eye's receptors (default, or auto: all)")
     g.add_argument("--delta-phi-deg", type=float,
@@ -318,7 +337,7 @@ def parser():
     p.add_argument("--eye", metavar="EYE_YAML", help="the receptors' eye, for the retinal-plane images "
                    "(without it, only responses.csv and irradiance.npz are written)")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path, help="folder for responses.csv, "
-                   "irradiance.npz and the images " + ", ".join(stages.IMAGES.values()))
+                   "irradiance.npz and the images " + ", ".join(IMAGES.values()))
     p.add_argument("--threads", type=_count, default=os.cpu_count(),
                    help="batches traced at once; the result is the same for any number (default: %(default)s, "
                    "the machine's cores)")

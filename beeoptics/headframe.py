@@ -4,10 +4,14 @@ The head frame is the one every table and image uses: +x anterior, +y to
 the bee's left, +z dorsal, in millimetres, origin between the eyes. The
 right eye therefore lies at negative y.
 
-Azimuth is measured in the horizontal plane from +x, positive towards the
-eye's own side (towards -y for the right eye, +y for the left); elevation is
-measured from the xy-plane, positive dorsal. These are the conventions of
-Stürzl et al. (2010) for the field of view of one eye.
+Two azimuth conventions are in use, each with its own function. An eye's
+azimuth (:func:`eye_direction`) is measured in the horizontal plane from +x,
+positive towards the eye's own side (towards -y for the right eye, +y for the
+left), the convention of Stürzl et al. (2010) for the field of view of one
+eye. The other (:func:`direction_from_x_towards_y`) runs from +x towards +y,
+counter-clockwise seen from above, for maps of both eyes and for the world
+frame of scenes (the sun's azimuth). Elevation is measured from the xy-plane,
+positive dorsal (up), in both.
 
 References
 ----------
@@ -18,17 +22,36 @@ with a 280° field of view catadioptric imaging system. Bioinspir Biomim
 
 import numpy as np
 
-SIDES = ("right", "left")
+#: The eyes, right first: the order of receptor tables, and the side codes of PLY files.
+RIGHT, LEFT = "right", "left"
+SIDES = (RIGHT, LEFT)
 
 
 def side_sign(side):
     """Return -1 for the right eye and +1 for the left: the sign of y on that side."""
     if side not in SIDES:
         raise ValueError(f"side must be one of {SIDES}, not {side!r}")
-    return -1.0 if side == "right" else 1.0
+    return -1.0 if side == RIGHT else 1.0
 
 
-def direction(azimuth_deg, elevation_deg, side="right"):
+def direction_from_x_towards_y(azimuth_deg, elevation_deg):
+    """Unit vectors, azimuth from +x towards +y, elevation from the xy-plane towards +z.
+
+    Parameters
+    ----------
+    azimuth_deg, elevation_deg : array_like
+        Degrees.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+    """
+    az = np.radians(np.asarray(azimuth_deg, float))
+    el = np.radians(np.asarray(elevation_deg, float))
+    return np.stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)], -1)
+
+
+def eye_direction(azimuth_deg, elevation_deg, side=RIGHT):
     """Unit vectors in the head frame for azimuths and elevations of one eye.
 
     Parameters
@@ -41,14 +64,12 @@ def direction(azimuth_deg, elevation_deg, side="right"):
     -------
     ndarray, shape (..., 3)
     """
-    az = np.deg2rad(np.asarray(azimuth_deg, float))
-    el = np.deg2rad(np.asarray(elevation_deg, float))
-    return np.stack(
-        [np.cos(el) * np.cos(az), side_sign(side) * np.cos(el) * np.sin(az), np.sin(el)], -1
-    )
+    out = direction_from_x_towards_y(azimuth_deg, elevation_deg)
+    out[..., 1] *= side_sign(side)
+    return out
 
 
-def azimuth_elevation(vectors, side="right"):
+def eye_azimuth_elevation(vectors, side=RIGHT):
     """Azimuth and elevation in degrees of head-frame vectors, as seen by one eye."""
     v = np.asarray(vectors, float)
     v = v / np.linalg.norm(v, axis=-1, keepdims=True)
@@ -64,7 +85,7 @@ def eye_rotation(azimuth_deg, elevation_deg, roll_deg=0.0):
     direction made perpendicular to z, then turned by ``roll_deg`` about z;
     local x = y × z, which for a laterally facing right eye points anterior.
     """
-    z = direction(azimuth_deg, elevation_deg, "right")
+    z = eye_direction(azimuth_deg, elevation_deg, RIGHT)
     up = np.array([0.0, 0.0, 1.0])
     y = up - z * (up @ z)
     y /= np.linalg.norm(y)

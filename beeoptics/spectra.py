@@ -20,8 +20,8 @@ spectral and spatial analysis of colour in R. Methods Ecol Evol 10:1097–1107.
 import colour
 import numpy as np
 
-from beeoptics.errors import InputError
-from beeoptics.table import read_table, write_table
+from beeoptics.io.errors import InputError
+from beeoptics.io.table import read_table, write_table
 
 #: How far beyond its last measured wavelength a spectrum may be held
 #: constant, nm: FReD's spectra stop at 699 nm, one short of the grid.
@@ -70,17 +70,15 @@ def resample(wavelengths, values, onto, source="spectrum", field=""):
     columns = v.reshape(len(wl), -1)
     step = onto[1] - onto[0] if len(onto) > 1 else 1.0
     cover = colour.SpectralShape(min(wl[0], onto[0]), max(wl[-1], onto[-1]), 1.0)
-    out = np.empty((len(onto), columns.shape[1]))
     # Measured spectra often come on uneven grids (ASTM G173: 0.5 nm, then 1 and 5 nm);
     # linear interpolation takes them as they are, and colour-science's warning that
     # the grid is uneven would only fill the logs.
     with colour.utilities.suppress_warnings(colour_runtime_warnings=True):
-        for j in range(columns.shape[1]):
-            sd = colour.SpectralDistribution(columns[:, j], wl, interpolator=colour.LinearInterpolator)
-            # Edges within the tolerance are held at their last measured value.
-            sd.extrapolate(cover, extrapolator_kwargs={"method": "Constant", "left": None, "right": None})
-            sd.interpolate(colour.SpectralShape(onto[0], onto[-1], step), interpolator=colour.LinearInterpolator)
-            out[:, j] = sd.values
+        msds = colour.MultiSpectralDistributions(columns, wl, interpolator=colour.LinearInterpolator)
+        # Edges within the tolerance are held at their last measured value.
+        msds.extrapolate(cover, extrapolator_kwargs={"method": "Constant", "left": None, "right": None})
+        msds.interpolate(colour.SpectralShape(onto[0], onto[-1], step), interpolator=colour.LinearInterpolator)
+        out = msds.values.reshape(len(onto), -1)
     return out.reshape((len(onto),) + v.shape[1:])
 
 
@@ -119,7 +117,7 @@ def read_pavo_csv(path, onto=None):
     if values.max() > 1.0:
         values = values / 100.0
     if onto is not None:
-        values = np.column_stack([resample(wl, values[:, j], onto, path, s) for j, s in enumerate(samples)])
+        values = resample(wl, values, onto, path, samples[0])
         wl = onto
     return samples, wl, values
 

@@ -16,7 +16,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from beeoptics import stages
+from beeoptics.eye.optics import AcceptanceModel
+from beeoptics.pipeline.eyes import FACET_OUTPUTS, build_facets, remesh_eye
 
 
 def main():
@@ -28,10 +29,10 @@ def main():
     eye = args.eyes_dir / args.eye / "eye.yaml"
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp)
-        stages.remesh_eye(eye, out / "remeshed.ply")
+        remesh_eye(eye, {"remeshed": out / "remeshed.ply"})
         start = time.perf_counter()
-        stages.place_facets(eye, out / "remeshed.ply", out / "receptors.csv", out / "quality.json",
-                            out / "relaxation.npz", tolerance_um=args.tolerance_um)
+        build_facets(eye, out / "remeshed.ply", {k: out / name for k, name in FACET_OUTPUTS.items()},
+                     tolerance_um=args.tolerance_um, acceptance=AcceptanceModel())
         stage_seconds = time.perf_counter() - start
         quality = json.loads((out / "quality.json").read_text())
     print(f"{args.eye}: {quality['facets_per_eye']} facets relaxed in {quality['relaxation']['seconds']:.1f} s "

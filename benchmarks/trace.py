@@ -30,32 +30,29 @@ from pathlib import Path
 import numpy as np
 import open3d as o3d
 
-from beeoptics import optics, stages
-from beeoptics.receptors import read_receptors
-from beeoptics.scene import load_scene, raycasting_scene, receptors_in_world
-from beeoptics.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.light.batching import TraceSettings
+from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
+from beeoptics.light.sensors import cone_samples
+from beeoptics.pipeline.trace import gather_responses, trace_part
+from beeoptics.spectra import grid
 
 ROOT = Path(__file__).resolve().parents[1]
 BARE_BATCH_RAYS = 1 << 20
 
 
 def build_eye(eye, receptors_csv):
-    """Build an eye's receptor table in a child process, as the workflow would."""
-    code = (
-        "import sys; from pathlib import Path; from beeoptics import stages\n"
-        "eye, out = Path(sys.argv[1]), Path(sys.argv[2]); d = out.parent\n"
-        "stages.remesh_eye(eye, d / 'remeshed.ply')\n"
-        "stages.place_facets(eye, d / 'remeshed.ply', out, d / 'quality.json', d / 'relaxation.npz')\n"
-    )
-    receptors_csv.parent.mkdir(parents=True, exist_ok=True)
-    subprocess.run([sys.executable, "-c", code, str(eye), str(receptors_csv)], check=True)
+    """Build an eye's receptor table in a child process, with the command-line tool's defaults."""
+    subprocess.run([sys.executable, "-m", "beeoptics.cli", "build-eye", str(eye), "-o", str(receptors_csv.parent),
+                    "--quiet"], check=True)
 
 
 def bare_rays_per_s(scene, origins, axes, drho, rays, seed):
     """Throughput of ``cast_rays`` alone on receptor-cone rays, batched as the trace batches."""
     rs = raycasting_scene(scene)
     per = max(1, BARE_BATCH_RAYS // 256)
-    dirs, _ = optics.cone_samples(axes[:per], drho[:per], 256, seed)
+    dirs, _ = cone_samples(axes[:per], drho[:per], 256, seed)
     batch = np.hstack([np.repeat(origins[:per], 256, axis=0), dirs.reshape(-1, 3)]).astype(np.float32)
     batch = o3d.core.Tensor(batch)
     rs.cast_rays(batch)  # warm up Embree's acceleration structure
@@ -74,31 +71,32 @@ def main():
     parser.add_argument("--depth", type=int, default=3, help="scattering events per path (default: 3)")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--threads", type=int, default=os.cpu_count(), help="threads (default: the cores, %(default)s)")
-    parser.add_argument("--batch-rays", type=int, default=validate_config({}, CONFIG_SCHEMA, folders=False)
-                        ["trace"]["batch_rays"], help="rays per batch (default: the config's, %(default)s)")
+    defaults = validate_config({}, CONFIG_SCHEMA, folders=False)
+    parser.add_argument("--batch-rays", type=int, default=defaults["trace"]["batch_rays"],
+                        help="rays per batch (default: the config's, %(default)s)")
     args = parser.parse_args()
     receptors_csv = ROOT / "results" / "eyes" / args.eye / "receptors.csv"
     if not receptors_csv.exists():
         build_eye(ROOT / "eyes" / args.eye / "eye.yaml", receptors_csv)
     scene_file = ROOT / "scenes" / args.scene / "scene.yaml"
-    spectral = {"start_nm": 300, "end_nm": 700, "step_nm": 5}
+    spectral = defaults["spectral"]
 
     with tempfile.TemporaryDirectory() as tmp:
         start = time.perf_counter()
         part = Path(tmp) / "radiance.npz"
-        counts = stages.trace_part(receptors_csv, scene_file, part, spectral=spectral,
-                                   samples_per_receptor=args.spp, depth=args.depth, seed=args.seed,
-                                   batch_rays=args.batch_rays, threads=args.threads)
-        stages.gather_responses(receptors_csv, scene_file, [part], Path(tmp) / "responses.csv",
-                                Path(tmp) / "irradiance.npz", spectral=spectral)
+        settings = TraceSettings(args.spp, args.depth, args.seed, args.batch_rays, args.threads)
+        counts = trace_part(receptors_csv, scene_file, {"radiance": part}, spectral=spectral, settings=settings)
+        gather_responses(receptors_csv, scene_file, [part], {"responses": Path(tmp) / "responses.csv",
+                                                             "irradiance": Path(tmp) / "irradiance.npz"},
+                         spectral=spectral)
         wall = time.perf_counter() - start
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     rays = counts["cast"] + counts["shadow"]
 
     table = read_receptors(receptors_csv)
-    scene = load_scene(scene_file, stages.wavelengths(spectral))
-    origins, axes = receptors_in_world(scene, table["position"], table["axis"])
-    bare = bare_rays_per_s(scene, origins, axes, table["delta_rho_deg"], rays, args.seed)
+    scene = load_scene(scene_file, grid(**spectral))
+    origins, axes = receptors_in_world(scene, table.position, table.axis)
+    bare = bare_rays_per_s(scene, origins, axes, table.delta_rho_deg, rays, args.seed)
     pipeline = rays / wall
     print(f"{args.eye} pair in {args.scene}: {len(origins)} receptors, {rays} rays in {wall:.1f} s; "
           f"{pipeline / 1e6:.2f} M rays/s against {bare / 1e6:.2f} M bare")

@@ -54,6 +54,18 @@ def disc_mesh(radius=1.0, edge=0.05):
     return m.vertex_matrix(), m.face_matrix().astype(np.int64)
 
 
+def build_eye_files(eye_yaml, outdir):
+    """Remesh and build an eye with the default settings, as the workflow does: its output paths."""
+    from beeoptics.eye.optics import AcceptanceModel
+    from beeoptics.pipeline.eyes import FACET_OUTPUTS, build_facets, remesh_eye
+
+    outdir = Path(outdir)
+    outputs = {"remeshed": outdir / "remeshed.ply", **{k: outdir / name for k, name in FACET_OUTPUTS.items()}}
+    remesh_eye(eye_yaml, outputs)
+    build_facets(eye_yaml, outputs["remeshed"], outputs, tolerance_um=0.05, acceptance=AcceptanceModel())
+    return outputs
+
+
 def write_scene(path, scene):
     """Write a scene description to ``path`` (a scene.yaml), creating its folder."""
     path = Path(path)

@@ -1,7 +1,7 @@
 """Bad input gets one clear error naming the file and the field, a nonzero exit, and no partial artifact.
 
 One test (or parametrised case) per kind of bad input. Every error is a
-:class:`beeoptics.errors.InputError` (or, for the workflow's config,
+:class:`beeoptics.io.errors.InputError` (or, for the workflow's config,
 Snakemake's validation error) whose one-line message names the file and
 the field at fault.
 """
@@ -19,16 +19,18 @@ import yaml
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate as snakemake_validate
 
-from beeoptics import eyefile, optics
-from beeoptics.atomic import atomic_path
-from beeoptics.errors import InputError
-from beeoptics.meshfile import read_mesh
-from beeoptics.receptors import read_receptors
-from beeoptics.scene import load_scene
-from beeoptics.sensitivity import measured_sensitivities
+from beeoptics.eye import description as eyefile
+from beeoptics.eye.optics import AcceptanceModel, acceptance_angles
+from beeoptics.light.sensors import cone_samples
+from beeoptics.io.atomic import atomic_path
+from beeoptics.io.errors import InputError
+from beeoptics.io.meshfile import read_mesh
+from beeoptics.io.receptortable import read_receptors
+from beeoptics.light.scene import load_scene
+from beeoptics.vision.sensitivity import measured_sensitivities
 from beeoptics.spectra import read_pavo_csv
-from beeoptics.table import read_table, write_table
-from beeoptics.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.io.table import read_table, write_table
+from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
 from conftest import ROOT, cap_mesh, write_scene
 
 DATA = ROOT / "tests" / "data"
@@ -535,9 +537,9 @@ def test_a_receptor_table_with_a_nonpositive_acceptance_angle_is_refused(tmp_pat
 def test_the_optics_refuse_a_nonpositive_acceptance_angle_or_sample_count():
     axes = np.array([[0.0, 0.0, 1.0]])
     with pytest.raises(ValueError, match="fixed_deg"):
-        optics.delta_rho(np.array([20.0]), "fixed", fixed_deg=0.0)
+        acceptance_angles(np.array([20.0]), AcceptanceModel("fixed", fixed_deg=0.0))
     with pytest.raises(ValueError, match="samples"):
-        optics.cone_samples(axes, 2.6, 0, seed=1)
+        cone_samples(axes, 2.6, 0, seed=1)
 
 
 # --- a misspelt key ------------------------------------------------------------------------------
@@ -618,12 +620,12 @@ def test_remeshing_an_eye_in_the_wrong_units_exits_nonzero_and_writes_nothing(tm
     write_obj(eye_file.parent / "eye.obj", v * 1000.0, f)
     out = tmp_path / "results" / "remeshed.ply"
     result = run_stage(f"""
-        from beeoptics import stages
-        stages.remesh_eye({str(eye_file)!r}, {str(out)!r})
+        from beeoptics.pipeline.eyes import remesh_eye
+        remesh_eye({str(eye_file)!r}, {{"remeshed": {str(out)!r}}})
         """, tmp_path)
     assert result.returncode != 0
     last = result.stderr.strip().splitlines()[-1]
-    assert last.startswith("beeoptics.errors.InputError: ")
+    assert last.startswith("beeoptics.io.errors.InputError: ")
     assert "eye.obj: vertices:" in last and "millimetres" in last
     assert not out.exists()
     assert not out.parent.exists() or leftovers(out.parent, "remeshed") == []
@@ -636,14 +638,15 @@ def test_tracing_a_scene_with_no_light_exits_nonzero_and_writes_nothing(tmp_path
     out = tmp_path / "results"
     out.mkdir()
     result = run_stage(f"""
-        from beeoptics import stages
-        stages.trace_part("receptors.csv", {str(scene_file)!r}, {str(out / "radiance_0_of_1.npz")!r},
-                          spectral={{"start_nm": 300, "end_nm": 700, "step_nm": 10}},
-                          samples_per_receptor=4, depth=1, seed=1, batch_rays=1024)
+        from beeoptics.light.batching import TraceSettings
+        from beeoptics.pipeline.trace import trace_part
+        trace_part("receptors.csv", {str(scene_file)!r}, {{"radiance": {str(out / "radiance_0_of_1.npz")!r}}},
+                   spectral={{"start_nm": 300, "end_nm": 700, "step_nm": 10}},
+                   settings=TraceSettings(samples=4, depth=1, seed=1, batch_rays=1024))
         """, tmp_path)
     assert result.returncode != 0
     last = result.stderr.strip().splitlines()[-1]
-    assert last.startswith("beeoptics.errors.InputError: ")
+    assert last.startswith("beeoptics.io.errors.InputError: ")
     assert "scene.yaml: light:" in last and "no light" in last
     assert sorted(p.name for p in out.iterdir()) == []
 

@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 import yaml
 
-from beeoptics import cli, stages
-from beeoptics.errors import InputError
-from beeoptics.interchange import read_receptor_ply
-from beeoptics.receptors import COLUMNS, read_receptors
-from beeoptics.table import read_table
+from beeoptics import cli
+from beeoptics.io.errors import InputError
+from beeoptics.io.interchange import read_receptor_ply
+from beeoptics.io.receptortable import COLUMNS, read_receptors
+from beeoptics.io.table import read_table
+from beeoptics.pipeline import images as image_stages
 from conftest import ROOT
 
 DATA = ROOT / "tests" / "data"
@@ -80,14 +81,14 @@ def test_build_eye_writes_the_receptor_table(built):
     assert tuple(table) == COLUMNS
     assert len(table["id"]) == 600 and sorted(set(table["side"])) == ["left", "right"]
     ply = read_receptor_ply(built / "receptors.ply")
-    np.testing.assert_array_equal(ply["position"], read_receptors(built / "receptors.csv")["position"])
+    np.testing.assert_array_equal(ply.position, read_receptors(built / "receptors.csv").position)
     assert not list(built.glob(".partial-*"))
 
 
 def test_render_writes_responses_and_images(rendered):
     responses = read_table(rendered / "responses.csv")
     assert len(responses["id"]) == 600 and np.all(responses["G"] > 0)
-    for name in ["irradiance.npz", *stages.IMAGES.values()]:
+    for name in ["irradiance.npz", *image_stages.IMAGES.values()]:
         assert (rendered / name).stat().st_size > 0, name
     assert not list(rendered.glob(".partial-*"))
 
@@ -111,10 +112,10 @@ def test_convert_round_trips_through_compoundray_and_ply(built, tmp_path, capsys
                             *conventions)
         assert code == 0, err
         back = read_receptors(tmp_path / "back.csv")
-        np.testing.assert_array_equal(back["side"], original["side"])
-        np.testing.assert_allclose(back["position"], original["position"], atol=1e-8)
-        np.testing.assert_allclose(back["axis"], original["axis"], atol=1e-8)
-        np.testing.assert_allclose(back["delta_rho_deg"], original["delta_rho_deg"], rtol=1e-7)
+        np.testing.assert_array_equal(back.side, original.side)
+        np.testing.assert_allclose(back.position, original.position, atol=1e-8)
+        np.testing.assert_allclose(back.axis, original.axis, atol=1e-8)
+        np.testing.assert_allclose(back.delta_rho_deg, original.delta_rho_deg, rtol=1e-7)
     assert call(capsys, "convert", csv, tmp_path / "r.ply")[0] == 0
     assert call(capsys, "convert", tmp_path / "r.ply", tmp_path / "r.csv")[0] == 0
     assert (tmp_path / "r.csv").read_bytes() == csv.read_bytes()
@@ -202,7 +203,7 @@ def test_a_run_failing_late_leaves_the_output_folder_as_it_was(tmp_path, built, 
     def fail(*args, **kwargs):
         raise InputError("eye.yaml", "placement", "refused after the trace")
 
-    monkeypatch.setattr(stages, "retinal_images", fail)
+    monkeypatch.setattr(cli, "retinal_images", fail)
     code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, out))
     assert code == 2 and "refused after the trace" in err
     assert [p.name for p in out.iterdir()] == ["responses.csv"]

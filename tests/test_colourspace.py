@@ -5,12 +5,12 @@ from itertools import combinations
 import numpy as np
 import pytest
 
-from beeoptics.colourspace import (COC_WEIGHTS, HEXAGON_VERTICES, TRIANGLE_VERTICES, coc, coc_distance,
+from beeoptics.vision.colourspace import (COC_WEIGHTS, HEXAGON_VERTICES, TRIANGLE_VERTICES, coc, coc_distance,
                                    excitation, hexagon, hexagon_polar, hexagon_sector, neural_noise,
                                    reflectance_catches, rnl_distance, spectral_locus, triangle, von_kries)
-from beeoptics.sensitivity import measured_sensitivities, receptor_sensitivities
+from beeoptics.vision.sensitivity import measured_sensitivities, receptor_sensitivities
 from beeoptics.spectra import read_pavo_csv
-from beeoptics.table import read_table
+from beeoptics.io.table import read_table
 
 R3 = np.sqrt(3.0)
 

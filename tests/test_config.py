@@ -5,7 +5,7 @@ import yaml
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
-from beeoptics.validation import CONFIG_SCHEMA
+from beeoptics.io.validation import CONFIG_SCHEMA
 from conftest import ROOT
 
 SCHEMA = str(CONFIG_SCHEMA)

@@ -5,11 +5,10 @@ import json
 import numpy as np
 import pytest
 
-from beeoptics import stages
-from beeoptics.eyefile import load_eye
-from beeoptics.headframe import azimuth_elevation
-from beeoptics.receptors import read_receptors
-from conftest import ROOT
+from beeoptics.eye.description import load_eye
+from beeoptics.headframe import eye_azimuth_elevation
+from beeoptics.io.receptortable import read_receptors
+from conftest import ROOT, build_eye_files
 
 CASTES = ("worker", "drone", "queen")
 
@@ -20,8 +19,7 @@ def built(tmp_path_factory):
     for caste in CASTES:
         d = tmp_path_factory.mktemp(caste)
         eye = ROOT / "eyes" / caste / "eye.yaml"
-        stages.remesh_eye(eye, d / "remeshed.ply")
-        stages.place_facets(eye, d / "remeshed.ply", d / "receptors.csv", d / "quality.json", d / "relaxation.npz")
+        build_eye_files(eye, d)
         out[caste] = {"quality": json.loads((d / "quality.json").read_text()),
                       "receptors": read_receptors(d / "receptors.csv"), "eye": load_eye(eye), "dir": d}
     return out
@@ -75,9 +73,9 @@ def test_queen_eye_is_less_specialised_than_the_workers(built):
 
 def test_left_eye_is_the_mirror_image_of_the_right(built):
     r = built["worker"]["receptors"]
-    right, left = r["side"] == "right", r["side"] == "left"
-    np.testing.assert_allclose(r["position"][left] * [1, -1, 1], r["position"][right])
-    np.testing.assert_allclose(r["axis"][left] * [1, -1, 1], r["axis"][right])
+    right, left = r.side == "right", r.side == "left"
+    np.testing.assert_allclose(r.position[left] * [1, -1, 1], r.position[right])
+    np.testing.assert_allclose(r.axis[left] * [1, -1, 1], r.axis[right])
 
 
 def test_worker_field_of_view_matches_stuerzls_border(built, shared_data):
@@ -86,7 +84,7 @@ def test_worker_field_of_view_matches_stuerzls_border(built, shared_data):
     lateral = border["azimuth_max_1_2"][equator][0]
     medial = border["azimuth_max_3_4"][border["elevation_3_4"] == 0.0][0]
     r = built["worker"]["receptors"]
-    az, el = azimuth_elevation(r["axis"][r["side"] == "right"], "right")
+    az, el = eye_azimuth_elevation(r.axis[r.side == "right"], "right")
     band = np.abs(el) <= 2.0
     assert az[band].max() == pytest.approx(lateral, abs=10.0)
     assert az[band].min() == pytest.approx(medial, abs=10.0)

@@ -2,8 +2,8 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from beeoptics.geodesic import heat_distances, pair_distances
-from beeoptics.meshquery import MeshQuery
+from beeoptics.eye.geodesic import heat_distances, pair_distances
+from beeoptics.eye.meshquery import MeshQuery
 from conftest import cap_mesh
 
 

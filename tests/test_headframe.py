@@ -1,20 +1,20 @@
 import numpy as np
 import pytest
 
-from beeoptics.headframe import azimuth_elevation, direction, eye_rotation, mirror
+from beeoptics.headframe import eye_azimuth_elevation, eye_direction, eye_rotation, mirror
 
 
 def test_right_eye_lies_at_negative_y():
     # Azimuth is positive towards the eye's own side: the right eye's lateral is -y.
-    np.testing.assert_allclose(direction(90, 0, "right"), [0, -1, 0], atol=1e-12)
-    np.testing.assert_allclose(direction(90, 0, "left"), [0, 1, 0], atol=1e-12)
-    np.testing.assert_allclose(direction(0, 90), [0, 0, 1], atol=1e-12)
+    np.testing.assert_allclose(eye_direction(90, 0, "right"), [0, -1, 0], atol=1e-12)
+    np.testing.assert_allclose(eye_direction(90, 0, "left"), [0, 1, 0], atol=1e-12)
+    np.testing.assert_allclose(eye_direction(0, 90), [0, 0, 1], atol=1e-12)
 
 
 @pytest.mark.parametrize("side", ["right", "left"])
 def test_azimuth_elevation_inverts_direction(side):
     az, el = np.meshgrid(np.linspace(-170, 170, 7), np.linspace(-80, 80, 5))
-    got_az, got_el = azimuth_elevation(direction(az, el, side), side)
+    got_az, got_el = eye_azimuth_elevation(eye_direction(az, el, side), side)
     np.testing.assert_allclose(got_az, az, atol=1e-9)
     np.testing.assert_allclose(got_el, el, atol=1e-9)
 
@@ -23,7 +23,7 @@ def test_eye_rotation_is_orthonormal_and_points_its_z_along_the_axis():
     r = eye_rotation(71.1, -2.75, 10.0)
     np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-12)
     assert np.linalg.det(r) == pytest.approx(1.0)
-    np.testing.assert_allclose(r[2], direction(71.1, -2.75), atol=1e-12)
+    np.testing.assert_allclose(r[2], eye_direction(71.1, -2.75), atol=1e-12)
 
 
 def test_mirror_flips_y_only():

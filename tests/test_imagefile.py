@@ -1,6 +1,6 @@
 import numpy as np
 
-from beeoptics.imagefile import read_image, write_exr, write_png
+from beeoptics.io.imagefile import read_image, write_exr, write_png
 
 
 def test_exr_channels_are_named_and_read_back_by_name(tmp_path):

@@ -5,16 +5,17 @@ import numpy as np
 import pymeshlab
 import pytest
 
-from beeoptics.errors import InputError
+from beeoptics.io.errors import InputError
 from beeoptics.headframe import mirror
-from beeoptics.interchange import (
+from beeoptics.io.interchange import (
     read_compoundray_eye,
     read_receptor_ply,
     write_compoundray_eye,
     write_receptor_ply,
 )
-from beeoptics.optics import cone_samples
-from beeoptics.receptors import COLUMNS, delta_phi, read_receptors, write_receptors
+from beeoptics.eye.receptors import delta_phi, measure_spacing
+from beeoptics.io.receptortable import COLUMNS, ReceptorTable, read_receptors, write_receptors
+from beeoptics.light.sensors import cone_samples
 from conftest import cap_mesh
 
 SPATIAL = ("x", "y", "z", "ax", "ay", "az")
@@ -32,15 +33,11 @@ def receptor_table(half_angle_deg=50.0):
     p = np.vstack([points, mirror(points)])
     a = np.vstack([axes, mirror(axes)])
     dphi = delta_phi(axes, np.unique(np.sort(igl.edges(f), axis=1), axis=0))
-    return {
-        "id": np.arange(2 * n),
-        "side": np.repeat(np.array(["right", "left"]), n),
-        "x": p[:, 0], "y": p[:, 1], "z": p[:, 2],
-        "ax": a[:, 0], "ay": a[:, 1], "az": a[:, 2],
-        "facet_diameter_um": np.tile(rng.uniform(15.0, 25.0, n), 2),
-        "delta_phi_deg": np.tile(dphi, 2),
-        "delta_rho_deg": np.tile(rng.uniform(1.5, 3.0, n), 2),
-    }
+    return ReceptorTable(
+        id=np.arange(2 * n), side=np.repeat(np.array(["right", "left"]), n), position=p, axis=a,
+        facet_diameter_um=np.tile(rng.uniform(15.0, 25.0, n), 2), delta_phi_deg=np.tile(dphi, 2),
+        delta_rho_deg=np.tile(rng.uniform(1.5, 3.0, n), 2),
+    )
 
 
 @pytest.fixture(scope="module")
@@ -49,8 +46,14 @@ def table():
 
 
 def rows(table, side):
-    keep = table["side"] == side
-    return {k: np.asarray(v)[keep] for k, v in table.items()}
+    """The columns of one eye's rows."""
+    keep = table.side == side
+    return {k: np.asarray(v)[keep] for k, v in table.columns().items()}
+
+
+def select(table, keep):
+    """The table's rows ``keep`` (a mask or indices)."""
+    return ReceptorTable(*(None if v is None else np.asarray(v)[keep] for v in table))
 
 
 def eye_file(tmp_path, text):
@@ -67,19 +70,19 @@ GOOD = "0 0 0.1 0 0 1 0.04 0\n0.1 0 0 1 0 0 0.04 0\n0 0.1 0 0 1 0 0.04 0\n"
 
 @pytest.mark.parametrize("units", ["m", "mm", 0.5])
 @pytest.mark.parametrize("frame", ["camera", "head"])
-@pytest.mark.parametrize("acceptance", ["fwhm", "variance"])
-def test_eye_round_trip_keeps_positions_axes_and_delta_rho(tmp_path, table, units, frame, acceptance):
+@pytest.mark.parametrize("convention", ["fwhm", "variance"])
+def test_eye_round_trip_keeps_positions_axes_and_delta_rho(tmp_path, table, units, frame, convention):
     path = tmp_path / "right.eye"
-    write_compoundray_eye(path, table, side="right", units=units, frame=frame, acceptance=acceptance)
-    got = read_compoundray_eye(path, side="right", units=units, frame=frame, acceptance=acceptance)
+    write_compoundray_eye(path, table, side="right", units=units, frame=frame, angle_convention=convention)
+    got = read_compoundray_eye(path, side="right", units=units, frame=frame, angle_convention=convention)
     want = rows(table, "right")
     # Nine significant digits in the file (rounding ≤ 5e-9 relative): float32, which CompoundRay reads, round-trips.
     for c in (*SPATIAL, "delta_rho_deg"):
-        np.testing.assert_allclose(got[c], want[c], rtol=5e-9, atol=1e-12, err_msg=c)
-    assert (got["side"] == "right").all()
-    np.testing.assert_array_equal(got["id"], np.arange(len(want["id"])))
-    np.testing.assert_array_equal(got["position"], np.column_stack([got["x"], got["y"], got["z"]]))
-    np.testing.assert_allclose(np.linalg.norm(got["axis"], axis=1), 1.0, atol=1e-12)
+        np.testing.assert_allclose(got.columns()[c], want[c], rtol=5e-9, atol=1e-12, err_msg=c)
+    assert (got.side == "right").all()
+    np.testing.assert_array_equal(got.id, np.arange(len(want["id"])))
+    np.testing.assert_array_equal(got.position, np.column_stack([got.columns()[c] for c in ("x", "y", "z")]))
+    np.testing.assert_allclose(np.linalg.norm(got.axis, axis=1), 1.0, atol=1e-12)
 
 
 def test_eye_lines_are_what_compoundray_parses(tmp_path, table):
@@ -89,7 +92,7 @@ def test_eye_lines_are_what_compoundray_parses(tmp_path, table):
     lines = text.split("\n")
     # getline + split on single spaces + stof of fields 0-7: no header, no blank line, no tabs.
     assert text.endswith("\n") and lines[-1] == ""
-    assert len(lines) - 1 == (table["side"] == "right").sum()
+    assert len(lines) - 1 == (table.side == "right").sum()
     assert all(len(line.split(" ")) == 8 for line in lines[:-1])
     first = np.array(lines[0].split(" "), float)
     r = rows(table, "right")
@@ -99,7 +102,7 @@ def test_eye_lines_are_what_compoundray_parses(tmp_path, table):
     np.testing.assert_allclose(first[6], np.radians(r["delta_rho_deg"][0]), rtol=1e-8)
     np.testing.assert_allclose(first[7], 2e-4, rtol=1e-8)
     got = read_compoundray_eye(path)
-    np.testing.assert_allclose(got["focal_offset_mm"], 0.2, rtol=1e-8)
+    np.testing.assert_allclose(got.focal_offset_mm, 0.2, rtol=1e-8)
 
 
 def compoundray_rays(axis, alpha, n, rng):
@@ -117,16 +120,16 @@ def compoundray_rays(axis, alpha, n, rng):
     return rotate(rotate(np.tile(axis, (n, 1)), splay, perp), around, axis)
 
 
-@pytest.mark.parametrize("acceptance, ratio", [("variance", 1.0), ("fwhm", 0.5)])
-def test_variance_convention_gives_compoundray_the_spread_of_snyders_gaussian(tmp_path, acceptance, ratio):
-    one = {k: v[:1] for k, v in receptor_table().items()}
+@pytest.mark.parametrize("convention, ratio", [("variance", 1.0), ("fwhm", 0.5)])
+def test_variance_convention_gives_compoundray_the_spread_of_snyders_gaussian(tmp_path, convention, ratio):
+    one = select(receptor_table(), [0])
     path = tmp_path / "one.eye"
-    write_compoundray_eye(path, one, acceptance=acceptance, frame="head")
+    write_compoundray_eye(path, one, angle_convention=convention, frame="head")
     alpha = float(path.read_text().split()[6])
-    axis = np.column_stack([one["ax"], one["ay"], one["az"]])
+    axis = one.axis
     rays = compoundray_rays(axis[0], alpha, 100_000, np.random.default_rng(0))
     theirs = np.mean(np.arccos(np.clip(rays @ axis[0], -1, 1)) ** 2)
-    directions, weights = cone_samples(axis, one["delta_rho_deg"], 4096, seed=1)
+    directions, weights = cone_samples(axis, one.delta_rho_deg, 4096, seed=1)
     theta = np.arccos(np.clip(directions[0] @ axis[0], -1, 1))
     ours = np.sum(weights[0] * theta**2) / np.sum(weights[0])
     # Same mean squared off-axis angle with α = √2 Δρ; half of it with α = Δρ.
@@ -136,39 +139,39 @@ def test_variance_convention_gives_compoundray_the_spread_of_snyders_gaussian(tm
 def test_both_eyes_in_one_file_split_by_side(tmp_path, table):
     path = tmp_path / "both.eye"
     write_compoundray_eye(path, table)
-    got = read_compoundray_eye(path, side="auto")
-    np.testing.assert_array_equal(got["side"], table["side"])
+    got = measure_spacing(read_compoundray_eye(path, side="auto"), path)
+    np.testing.assert_array_equal(got.side, table.side)
     for c in SPATIAL:
-        np.testing.assert_allclose(got[c], table[c], rtol=5e-9, atol=1e-12, err_msg=c)
+        np.testing.assert_allclose(got.columns()[c], table.columns()[c], rtol=5e-9, atol=1e-12, err_msg=c)
     # Each eye is triangulated on its own, so the left eye's Δφ mirrors the right's.
-    np.testing.assert_allclose(got["delta_phi_deg"], table["delta_phi_deg"], rtol=1e-6)
+    np.testing.assert_allclose(got.delta_phi_deg, table.delta_phi_deg, rtol=1e-6)
 
 
 def test_delta_phi_is_measured_on_the_delaunay_neighbours(tmp_path, table):
     path = tmp_path / "right.eye"
     write_compoundray_eye(path, table, side="right")
-    got = read_compoundray_eye(path)
+    got = measure_spacing(read_compoundray_eye(path), path)
     # The cap's own mesh edges, rim included, are the triangulation's edges.
-    np.testing.assert_allclose(got["delta_phi_deg"], rows(table, "right")["delta_phi_deg"], rtol=1e-6)
-    assert np.isnan(got["facet_diameter_um"]).all()
-    fixed = read_compoundray_eye(path, delta_phi=2.0, facet_diameter_um=20.0)
-    assert (fixed["delta_phi_deg"] == 2.0).all() and (fixed["facet_diameter_um"] == 20.0).all()
-    spaced = read_compoundray_eye(path, facet_diameter_um="spacing")
+    np.testing.assert_allclose(got.delta_phi_deg, rows(table, "right")["delta_phi_deg"], rtol=1e-6)
+    assert np.isnan(got.facet_diameter_um).all()
+    fixed = read_compoundray_eye(path, delta_phi_deg=2.0, facet_diameter_um=20.0)
+    assert (fixed.delta_phi_deg == 2.0).all() and (fixed.facet_diameter_um == 20.0).all()
+    spaced = measure_spacing(read_compoundray_eye(path), path, facet_diameter_um=True)
     # Axes on a sphere of 0.8 mm: neighbours are 0.8·Δφ apart (chord ≈ arc).
-    np.testing.assert_allclose(spaced["facet_diameter_um"], 800 * np.radians(got["delta_phi_deg"]), rtol=0.01)
+    np.testing.assert_allclose(spaced.facet_diameter_um, 800 * np.radians(got.delta_phi_deg), rtol=0.01)
 
 
 def test_read_eye_is_a_receptor_table(tmp_path, table):
     eye, csv = tmp_path / "right.eye", tmp_path / "receptors.csv"
     write_compoundray_eye(eye, table, side="left")
-    got = read_compoundray_eye(eye, side="left")
+    got = measure_spacing(read_compoundray_eye(eye, side="left"), eye)
     write_receptors(csv, got)
-    back = read_receptors(csv)
+    back = read_receptors(csv).columns()
     for c in COLUMNS:
         if c == "side":
-            np.testing.assert_array_equal(back[c], got[c])
+            np.testing.assert_array_equal(back[c], got.columns()[c])
         else:
-            np.testing.assert_allclose(back[c], got[c], rtol=1e-8, err_msg=c)
+            np.testing.assert_allclose(back[c], got.columns()[c], rtol=1e-8, err_msg=c)
 
 
 def test_eye_output_is_deterministic_and_atomic(tmp_path, table):
@@ -176,7 +179,7 @@ def test_eye_output_is_deterministic_and_atomic(tmp_path, table):
     write_compoundray_eye(a, table)
     write_compoundray_eye(b, table)
     assert a.read_bytes() == b.read_bytes()
-    bad = dict(table, delta_rho_deg=np.where(table["id"] == 3, np.nan, table["delta_rho_deg"]))
+    bad = table._replace(delta_rho_deg=np.where(table.id == 3, np.nan, table.delta_rho_deg))
     with pytest.raises(ValueError, match="delta_rho_deg of receptor 3"):
         write_compoundray_eye(tmp_path / "c.eye", bad)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.eye", "b.eye"]
@@ -185,7 +188,7 @@ def test_eye_output_is_deterministic_and_atomic(tmp_path, table):
 def test_wrong_number_of_columns_names_file_and_line(tmp_path):
     path = eye_file(tmp_path, GOOD + "\n0 0 -0.1 0 0 -1 0.04\n")
     with pytest.raises(InputError) as e:
-        read_compoundray_eye(path, delta_phi=2.0)
+        read_compoundray_eye(path, delta_phi_deg=2.0)
     assert e.value.path == str(path) and e.value.field == "line 5"
     assert str(path) in str(e.value) and "has 7 values" in str(e.value)
 
@@ -197,14 +200,14 @@ def test_values_that_are_not_finite_numbers_are_refused(tmp_path, value, field):
     line[fields.index(field)] = value
     path = eye_file(tmp_path, GOOD + " ".join(line) + "\n")
     with pytest.raises(InputError) as e:
-        read_compoundray_eye(path, delta_phi=2.0)
+        read_compoundray_eye(path, delta_phi_deg=2.0)
     assert e.value.field == f"line 4: {field}" and str(path) in str(e.value)
 
 
 def test_zero_length_direction_is_refused(tmp_path):
     path = eye_file(tmp_path, GOOD.replace("0.1 0 0 1 0 0", "0.1 0 0 0 0 0"))
     with pytest.raises(InputError) as e:
-        read_compoundray_eye(path, delta_phi=2.0)
+        read_compoundray_eye(path, delta_phi_deg=2.0)
     assert e.value.field == "line 2: direction" and "zero length" in str(e.value)
 
 
@@ -215,15 +218,15 @@ def test_zero_length_direction_is_refused(tmp_path):
 ])
 def test_empty_files_and_negative_angles_are_refused(tmp_path, text, field):
     with pytest.raises(InputError) as e:
-        read_compoundray_eye(eye_file(tmp_path, text), delta_phi=2.0)
+        read_compoundray_eye(eye_file(tmp_path, text), delta_phi_deg=2.0)
     assert e.value.field == field
 
 
 def test_untriangulable_axes_ask_for_delta_phi(tmp_path):
     path = eye_file(tmp_path, GOOD)
     with pytest.raises(InputError, match="delta_phi"):
-        read_compoundray_eye(path)
-    assert len(read_compoundray_eye(path, delta_phi=2.0)["id"]) == 3
+        measure_spacing(read_compoundray_eye(path), path)
+    assert len(read_compoundray_eye(path, delta_phi_deg=2.0).id) == 3
 
 
 def test_missing_eye_file(tmp_path):
@@ -236,13 +239,13 @@ def test_missing_eye_file(tmp_path):
 
 def test_ply_round_trip_is_exact(tmp_path, table):
     path = tmp_path / "receptors.ply"
-    t = dict(table, facet_diameter_um=np.where(table["id"] % 5 == 0, np.nan, table["facet_diameter_um"]))
+    t = table._replace(facet_diameter_um=np.where(table.id % 5 == 0, np.nan, table.facet_diameter_um))
     write_receptor_ply(path, t)
     got = read_receptor_ply(path)
     for c in COLUMNS:
-        np.testing.assert_array_equal(got[c], t[c], err_msg=c)
-    assert got["id"].dtype.kind == "i" and got["side"].dtype.kind == "U"
-    np.testing.assert_array_equal(got["axis"], np.column_stack([t["ax"], t["ay"], t["az"]]))
+        np.testing.assert_array_equal(got.columns()[c], t.columns()[c], err_msg=c)
+    assert got.id.dtype.kind == "i" and got.side.dtype.kind == "U"
+    np.testing.assert_array_equal(got.axis, t.axis)
 
 
 def test_ply_opens_in_meshlab_with_normals_and_quality(tmp_path, table):
@@ -256,10 +259,10 @@ def test_ply_opens_in_meshlab_with_normals_and_quality(tmp_path, table):
     ms = pymeshlab.MeshSet()
     ms.load_new_mesh(str(path))
     m = ms.current_mesh()
-    assert m.vertex_number() == len(table["id"]) and m.face_number() == 0
-    np.testing.assert_allclose(m.vertex_matrix(), np.column_stack([table[c] for c in ("x", "y", "z")]))
-    np.testing.assert_allclose(m.vertex_normal_matrix(), np.column_stack([table[c] for c in ("ax", "ay", "az")]))
-    np.testing.assert_allclose(m.vertex_scalar_array(), table["delta_rho_deg"])
+    assert m.vertex_number() == len(table.id) and m.face_number() == 0
+    np.testing.assert_allclose(m.vertex_matrix(), table.position)
+    np.testing.assert_allclose(m.vertex_normal_matrix(), table.axis)
+    np.testing.assert_allclose(m.vertex_scalar_array(), table.delta_rho_deg)
 
 
 def test_ply_output_is_deterministic(tmp_path, table):
@@ -273,8 +276,8 @@ def test_ply_without_a_property_names_it(tmp_path, table):
     import open3d as o3d
 
     path = tmp_path / "partial.ply"
-    cloud = o3d.t.geometry.PointCloud(o3d.core.Tensor(np.column_stack([table["x"], table["y"], table["z"]])))
-    cloud.point.normals = o3d.core.Tensor(np.column_stack([table["ax"], table["ay"], table["az"]]))
+    cloud = o3d.t.geometry.PointCloud(o3d.core.Tensor(table.position))
+    cloud.point.normals = o3d.core.Tensor(table.axis)
     o3d.t.io.write_point_cloud(str(path), cloud)
     with pytest.raises(InputError) as e:
         read_receptor_ply(path)

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from beeoptics.lattice import conformal_map, hex_grid, neighbour_counts, neighbour_edges, project_grid
-from beeoptics.meshquery import MeshQuery
+from beeoptics.eye.lattice import conformal_map, hex_grid, neighbour_counts, neighbour_edges, project_grid
+from beeoptics.eye.meshquery import MeshQuery
 from conftest import cap_mesh, disc_mesh
 
 

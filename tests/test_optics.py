@@ -1,23 +1,24 @@
 import numpy as np
 import pytest
 
-from beeoptics.optics import acceptance, cone_samples, delta_rho, snyder_delta_rho
+from beeoptics.eye.optics import AcceptanceModel, acceptance_angles, angular_sensitivity, snyder_delta_rho
+from beeoptics.light.sensors import cone_samples
 
 
 def test_acceptance_is_half_at_half_the_acceptance_angle():
-    assert acceptance(0.0, 2.6) == 1.0
-    assert acceptance(1.3, 2.6) == pytest.approx(0.5)
+    assert angular_sensitivity(0.0, 2.6) == 1.0
+    assert angular_sensitivity(1.3, 2.6) == pytest.approx(0.5)
     # Eheim & Wehner (1972): exp(-0.41 θ²), θ in degrees, for Δρ = 2.57°.
-    assert acceptance(1.0, 2.57) == pytest.approx(np.exp(-0.41), rel=0.02)
+    assert angular_sensitivity(1.0, 2.57) == pytest.approx(np.exp(-0.41), rel=0.02)
 
 
 def test_snyder_gives_the_measured_acceptance_for_worker_facets():
     # λ/D for a 16 µm facet at 500 nm is 1.79°; with d/f = 1.7° that makes 2.47°.
     assert snyder_delta_rho(16.0) == pytest.approx(np.hypot(np.degrees(0.5 / 16.0), 1.7))
     assert 2.3 < snyder_delta_rho(16.0) < 2.7
-    np.testing.assert_array_equal(delta_rho([15.0, 17.0], "fixed", 2.6), [2.6, 2.6])
+    np.testing.assert_array_equal(acceptance_angles([15.0, 17.0], AcceptanceModel("fixed", 2.6)), [2.6, 2.6])
     with pytest.raises(ValueError):
-        delta_rho([15.0], "gaussian")
+        acceptance_angles([15.0], AcceptanceModel("gaussian"))
 
 
 def test_cone_samples_follow_the_two_dimensional_gaussian():

@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
 
-from beeoptics.lattice import conformal_map, neighbour_counts, project_grid
-from beeoptics.meshquery import MeshQuery
-from beeoptics.relax import relax
+from beeoptics.eye.lattice import conformal_map, neighbour_counts, project_grid
+from beeoptics.eye.meshquery import MeshQuery
+from beeoptics.eye.relax import relax
 from conftest import cap_mesh, disc_mesh
 
 
@@ -23,17 +23,17 @@ def relaxed_disc():
 
 def test_flat_disc_relaxes_to_a_hexagonal_lattice(relaxed_disc):
     _, _, r = relaxed_disc
-    counts = neighbour_counts(r["edges"], len(r["points"]))
-    assert (counts[~r["boundary"]] == 6).mean() >= 0.95
+    counts = neighbour_counts(r.edges, len(r.points))
+    assert (counts[~r.boundary] == 6).mean() >= 0.95
 
 
 def test_flat_disc_spacing_is_uniform(relaxed_disc):
     _, spacing, r = relaxed_disc
-    inner = ~r["boundary"][r["edges"]].any(1)
-    assert np.median(r["geodesic"][inner]) == pytest.approx(spacing, rel=0.03)
+    inner = ~r.boundary[r.edges].any(1)
+    assert np.median(r.geodesic[inner]) == pytest.approx(spacing, rel=0.03)
     # On a plane the geodesic is the chord.
-    chord = np.linalg.norm(r["points"][r["edges"][:, 0]] - r["points"][r["edges"][:, 1]], axis=1)
-    np.testing.assert_allclose(r["geodesic"], chord, rtol=2e-4)  # points are nudged 1e-4 of a face
+    chord = np.linalg.norm(r.points[r.edges[:, 0]] - r.points[r.edges[:, 1]], axis=1)
+    np.testing.assert_allclose(r.geodesic, chord, rtol=2e-4)  # points are nudged 1e-4 of a face
 
 
 def test_particles_stay_on_the_mesh():
@@ -42,7 +42,7 @@ def test_particles_stay_on_the_mesh():
     points, faces, _ = project_grid(q, 800)
     target = np.full(len(v), 2.0 * np.sqrt(q.area / (np.sqrt(3) / 2 * 800)) / 2)
     r = relax(q, conformal_map(v, f), target, points, faces, 1e-4, snapshot_at=(0, 10, 30))
-    for _, snapshot in r["snapshots"]:
+    for _, snapshot in r.snapshots:
         closest, _ = q.project(snapshot)
         assert np.linalg.norm(closest - snapshot, axis=1).max() <= 1e-6
 
@@ -55,8 +55,8 @@ def test_relaxation_follows_a_gradient_of_facet_size():
     count = int(round((q.area / (np.sqrt(3) / 2 * target.mean() ** 2))))
     points, faces, _ = project_grid(q, count)
     r = relax(q, conformal_map(v, f), target, points, faces, 1e-5)
-    want = q.interpolate(target, r["points"], r["faces"])
-    e = r["edges"]
-    inner = ~r["boundary"][e].any(1)
-    ratio = r["geodesic"][inner] / (0.5 * (want[e[inner, 0]] + want[e[inner, 1]]))
+    want = q.interpolate(target, r.points, r.faces)
+    e = r.edges
+    inner = ~r.boundary[e].any(1)
+    ratio = r.geodesic[inner] / (0.5 * (want[e[inner, 0]] + want[e[inner, 1]]))
     assert np.median(np.abs(ratio / np.median(ratio) - 1)) < 0.03

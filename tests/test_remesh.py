@@ -3,7 +3,7 @@ import numpy as np
 import pymeshlab
 import pytest
 
-from beeoptics.remesh import remesh
+from beeoptics.eye.remesh import remesh
 from conftest import cap_mesh
 
 

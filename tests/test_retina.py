@@ -1,7 +1,7 @@
 import numpy as np
 from scipy.spatial import cKDTree
 
-from beeoptics.retina import canvas, density, nearest_receptor, voronoi
+from beeoptics.images.retina import canvas, density, nearest_receptor, voronoi
 
 
 def lattice(n=30):

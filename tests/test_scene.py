@@ -10,11 +10,11 @@ import OpenImageIO as oiio
 import pytest
 import yaml
 
-from beeoptics.errors import InputError
-from beeoptics.meshfile import read_mesh
-from beeoptics.optics import cone_samples
-from beeoptics.scene import load_scene
-from beeoptics.trace import trace_paths
+from beeoptics.io.errors import InputError
+from beeoptics.io.meshfile import read_mesh
+from beeoptics.light.sensors import cone_samples
+from beeoptics.light.scene import load_scene
+from beeoptics.light.integrator import trace_paths
 from conftest import write_scene
 
 FLOWER = Path(__file__).parent / "data" / "scenes" / "flower"
@@ -69,8 +69,8 @@ def write_gltf(path, vertices, faces, face_colours=None, uv=None):
 
 def faces_and_materials(scene, name):
     """Each face of the named object as (centroid x, y, z, material), sorted: independent of face order."""
-    o = next(o for o in scene.objects if o["name"] == name)
-    rows = np.column_stack([o["vertices"][o["faces"]].mean(1), o["face_material"]])
+    o = next(o for o in scene.objects if o.name == name)
+    rows = np.column_stack([o.vertices[o.faces].mean(1), o.face_material])
     return rows[np.lexsort(rows.T[::-1])]
 
 

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy.signal import argrelmax
 
-from beeoptics.sensitivity import (LAMBDA_MAX_APIS, govardovskii_a1, overall_sensitivity,
+from beeoptics.vision.sensitivity import (LAMBDA_MAX_APIS, govardovskii_a1, overall_sensitivity,
                                    receptor_sensitivities)
 from beeoptics.spectra import read_pavo_csv
 

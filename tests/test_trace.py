@@ -4,11 +4,13 @@ import numpy as np
 import pytest
 from scipy.optimize import curve_fit
 
-from beeoptics import stages
-from beeoptics.optics import cone_samples, tangent_frames
-from beeoptics.receptors import write_receptors
-from beeoptics.scene import load_scene
-from beeoptics.trace import trace_paths
+from beeoptics.io.receptortable import ReceptorTable, write_receptors
+from beeoptics.light.batching import TraceSettings
+from beeoptics.light.integrator import trace_paths
+from beeoptics.light.sampler import tangent_frames
+from beeoptics.light.scene import load_scene
+from beeoptics.light.sensors import cone_samples
+from beeoptics.pipeline.trace import trace_part
 from conftest import ROOT, write_scene
 
 MEADOW = ROOT / "scenes" / "meadow" / "scene.yaml"
@@ -111,18 +113,16 @@ def test_a_trace_is_bit_identical_however_it_is_batched_and_threaded(tmp_path):
     """Batch size and threads change how rays are grouped, never a receptor's result."""
     n = 1024
     axes = fan(n, [1.0, 0.0, -0.3], 40, np.random.default_rng(2))
-    table = {"id": np.arange(n), "side": np.repeat(["right"], n),
-             **{c: np.zeros(n) for c in ("x", "y", "z")},
-             **dict(zip(("ax", "ay", "az"), axes.T)),
-             "facet_diameter_um": np.full(n, 20.0), "delta_phi_deg": np.full(n, 2.0),
-             "delta_rho_deg": np.full(n, 2.6)}
+    table = ReceptorTable(id=np.arange(n), side=np.repeat(["right"], n), position=np.zeros((n, 3)), axis=axes,
+                          facet_diameter_um=np.full(n, 20.0), delta_phi_deg=np.full(n, 2.0),
+                          delta_rho_deg=np.full(n, 2.6))
     write_receptors(tmp_path / "receptors.csv", table)
     radiance = []
     for batch_rays, threads in [(1 << 17, 1), (1 << 14, 1), (5000, 2)]:
         out = tmp_path / f"radiance_{batch_rays}_{threads}.npz"
-        stages.trace_part(tmp_path / "receptors.csv", MEADOW, out, spectral={"start_nm": 300, "end_nm": 700,
-                          "step_nm": 5}, samples_per_receptor=128, depth=3, seed=5, batch_rays=batch_rays,
-                          threads=threads)
+        trace_part(tmp_path / "receptors.csv", MEADOW, {"radiance": out},
+                   spectral={"start_nm": 300, "end_nm": 700, "step_nm": 5},
+                   settings=TraceSettings(samples=128, depth=3, seed=5, batch_rays=batch_rays, threads=threads))
         radiance.append(np.load(out)["radiance"])
     assert radiance[0].max() > 0.0
     for other in radiance[1:]:

@@ -3,10 +3,13 @@
 import numpy as np
 from scipy.spatial import cKDTree
 
-from beeoptics import stages
-from beeoptics.receptors import write_receptors
-from beeoptics.table import read_table
-from beeoptics.visualfield import LEFT, RIGHT, directions, extent, paint, visual_field
+from beeoptics.eye.fieldofview import EYE_BITS, directions, extent, visual_field
+from beeoptics.images.fieldmaps import paint
+from beeoptics.io.receptortable import ReceptorTable, write_receptors
+from beeoptics.io.table import read_table
+from beeoptics.pipeline.eyes import acuity_table
+
+RIGHT, LEFT = EYE_BITS["right"], EYE_BITS["left"]
 
 
 def fibonacci_sphere(n):
@@ -31,8 +34,7 @@ def test_a_map_pixel_shows_the_receptor_whose_axis_is_nearest():
     axes = fibonacci_sphere(3000)
     sides = np.where(axes[:, 1] > 0, "left", "right")
     # Δρ/2 of a spacing bridges the seam between the two eyes' lattices.
-    field = visual_field(axes, sides, np.full(len(axes), 2.0 * spacing_deg(3000)), np.full(len(axes), spacing_deg(3000)),
-                         width_px=180)
+    field = visual_field(axes, sides, np.full(len(axes), 2.0 * spacing_deg(3000)), width_px=180)
     _, _, unit = directions(180)
     assert (field.receptor >= 0).all()
     # Each eye claims its own nearest receptor; where both see, the nearer one wins.
@@ -50,8 +52,7 @@ def test_a_cap_of_axes_sees_the_cap_and_at_most_half_an_acceptance_angle_beyond(
     axes = fibonacci_sphere(40000)
     mine = cap(axes, np.array([1.0, 0.0, 0.0]), 40.0)
     drho = 1.5 * spacing_deg(40000)
-    field = visual_field(mine, np.full(len(mine), "right"), np.full(len(mine), drho),
-                         np.full(len(mine), spacing_deg(40000)), width_px=1440)
+    field = visual_field(mine, np.full(len(mine), "right"), np.full(len(mine), drho), width_px=1440)
     # The outermost axes lie within half a spacing inside the 40° rim, and the
     # discs of Δρ/2 round them scallop the border: the field lies between the
     # cap less half a spacing and the cap grown by Δρ/2.
@@ -71,8 +72,7 @@ def test_two_eyes_overlap_where_their_fields_do():
     left = right * [1.0, -1.0, 1.0]
     all_axes = np.vstack([right, left])
     sides = np.repeat(["right", "left"], [len(right), len(left)])
-    field = visual_field(all_axes, sides, np.full(len(all_axes), 2.6), np.full(len(all_axes), spacing_deg(20000)),
-                         width_px=720)
+    field = visual_field(all_axes, sides, np.full(len(all_axes), 2.6), width_px=720)
     equator = field.eyes[len(field.elevation_deg) // 2]
     az = field.azimuth_deg
     assert (equator[np.abs(az) < 8] == RIGHT | LEFT).all()
@@ -87,15 +87,11 @@ def test_two_eyes_overlap_where_their_fields_do():
 def test_acuity_table_gives_nyquist_and_rayleigh_limits(tmp_path):
     n = 500
     axes = fibonacci_sphere(2 * n)
-    table = {
-        "id": np.arange(2 * n), "side": np.repeat(["right", "left"], n),
-        "x": np.zeros(2 * n), "y": np.zeros(2 * n), "z": np.zeros(2 * n),
-        "ax": axes[:, 0], "ay": axes[:, 1], "az": axes[:, 2],
-        "facet_diameter_um": np.full(2 * n, 20.0), "delta_phi_deg": np.full(2 * n, 2.0),
-        "delta_rho_deg": np.full(2 * n, 2.6),
-    }
+    table = ReceptorTable(id=np.arange(2 * n), side=np.repeat(["right", "left"], n), position=np.zeros((2 * n, 3)),
+                          axis=axes, facet_diameter_um=np.full(2 * n, 20.0), delta_phi_deg=np.full(2 * n, 2.0),
+                          delta_rho_deg=np.full(2 * n, 2.6))
     write_receptors(tmp_path / "receptors.csv", table)
-    stages.acuity_table({"test": tmp_path / "receptors.csv"}, tmp_path / "acuity.csv", width_px=90)
+    acuity_table({"test": tmp_path / "receptors.csv"}, {"acuity": tmp_path / "acuity.csv"}, width_px=90)
     row = read_table(tmp_path / "acuity.csv", numeric=["f_max_cpd_median", "rayleigh_deg_G_median_facet",
                                                         "delta_rho_deg_p50", "receptors"], text=["eye"])
     assert list(row["eye"]) == ["test"] and row["receptors"][0] == 2 * n

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 import yaml
 
-from beeoptics import stages
-from beeoptics.imagefile import read_image
-from beeoptics.table import read_table
+from beeoptics.io.imagefile import read_image
+from beeoptics.pipeline.trace import gather_responses
+from beeoptics.io.table import read_table
 from conftest import ROOT
 
 DATA = ROOT / "tests" / "data"
@@ -185,7 +185,7 @@ def test_a_sweep_traces_every_combination_and_tables_them(workdir):
 
 
 def test_measured_receptor_curves_from_a_csv_replace_the_template(workdir, tmp_path):
-    from beeoptics.sensitivity import receptor_sensitivities
+    from beeoptics.vision.sensitivity import receptor_sensitivities
     from beeoptics.spectra import grid, write_pavo_csv
 
     flower = workdir / "results" / "tiny" / "flower"
@@ -195,8 +195,8 @@ def test_measured_receptor_curves_from_a_csv_replace_the_template(workdir, tmp_p
     wl = grid(300, 700, 1)
     curves = receptor_sensitivities(wl)
     write_pavo_csv(tmp_path / "same.csv", wl, dict(zip(("UV", "B", "G"), curves.T)))
-    stages.gather_responses(*args, tmp_path / "same.csv.out", tmp_path / "same.npz", spectral=spectral,
-                            receptor_curves=str(tmp_path / "same.csv"))
+    gather_responses(*args, {"responses": tmp_path / "same.csv.out", "irradiance": tmp_path / "same.npz"},
+                     spectral=spectral, receptor_curves=str(tmp_path / "same.csv"))
     ours = read_table(flower / "responses.csv", numeric=["UV", "B", "G"], text=["side"])
     same = read_table(tmp_path / "same.csv.out", numeric=["UV", "B", "G"], text=["side"])
     for k in ("UV", "B", "G"):
@@ -204,8 +204,8 @@ def test_measured_receptor_curves_from_a_csv_replace_the_template(workdir, tmp_p
     # A green receptor peaking 30 nm further red catches less of this scene's light relative to blue.
     shifted = receptor_sensitivities(wl, (344.0, 436.0, 574.0))
     write_pavo_csv(tmp_path / "red.csv", wl, dict(zip(("UV", "B", "G"), shifted.T)))
-    stages.gather_responses(*args, tmp_path / "red.out", tmp_path / "red.npz", spectral=spectral,
-                            receptor_curves=str(tmp_path / "red.csv"))
+    gather_responses(*args, {"responses": tmp_path / "red.out", "irradiance": tmp_path / "red.npz"},
+                     spectral=spectral, receptor_curves=str(tmp_path / "red.csv"))
     red = read_table(tmp_path / "red.out", numeric=["UV", "B", "G"], text=["side"])
     np.testing.assert_allclose(red["B"], ours["B"], rtol=1e-6)
     assert not np.allclose(red["G"], ours["G"], rtol=1e-3)

@@ -2,14 +2,15 @@
 
 from pathlib import Path
 
-from beeoptics import stages, sweeps
-from beeoptics.sensitivity import TEMPLATE
+from beeoptics.pipeline import sweeps
+from beeoptics.pipeline.images import IMAGES as RETINAL_IMAGES
+from beeoptics.vision.sensitivity import TEMPLATE
 
 EYES_DIR = Path(config["eyes_dir"])
 SCENES_DIR = Path(config["scenes_dir"])
 
 # Images written for every eye and scene: the retinal plane's, the visual field's, the colour spaces'.
-IMAGES = [*stages.IMAGES.values(), "visual_field.png", "visual_field.exr", "triangle.png", "hexagon.png"]
+IMAGES = [*RETINAL_IMAGES.values(), "visual_field.png", "visual_field.exr", "triangle.png", "hexagon.png"]
 
 
 wildcard_constraints:

@@ -6,7 +6,7 @@ rule remesh:
     input:
         eye_sources,
     output:
-        "results/eyes/{eye}/remeshed.ply",
+        remeshed="results/eyes/{eye}/remeshed.ply",
     params:
         eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
         edge_fraction=config["eye"]["edge_fraction"],
@@ -60,7 +60,7 @@ rule acuity:
     input:
         expand("results/eyes/{eye}/receptors.csv", eye=config["eyes"]),
     output:
-        report("results/eyes/acuity.csv", caption="../report/acuity.rst", category="Eyes"),
+        acuity=report("results/eyes/acuity.csv", caption="../report/acuity.rst", category="Eyes"),
     params:
         eyes=config["eyes"],
         width_px=config["images"]["visual_field_width_px"],
@@ -74,7 +74,7 @@ rule sensitivities:
     input:
         sensitivity_files(),
     output:
-        report("results/figures/sensitivities.png", caption="../report/sensitivities.rst", category="Receptors"),
+        figure=report("results/figures/sensitivities.png", caption="../report/sensitivities.rst", category="Receptors"),
     params:
         spectral=config["spectral"],
         receptor_curves=config["colour"]["sensitivities"],

@@ -25,7 +25,7 @@ rule sweep_receptors:
     input:
         "results/eyes/{eye}/receptors.csv",
     output:
-        "results/sweeps/{sweep}/{variant}/eyes/{eye}/receptors.csv",
+        receptors="results/sweeps/{sweep}/{variant}/eyes/{eye}/receptors.csv",
     params:
         delta_rho_deg=lambda w: sweep_variant(w).get("delta_rho_deg"),
     log:
@@ -39,12 +39,12 @@ use rule trace as sweep_trace with:
         receptors="results/sweeps/{sweep}/{variant}/eyes/{eye}/receptors.csv",
         scene=scene_sources,
     output:
-        "results/sweeps/{sweep}/{variant}/{eye}/{scene}/parts/radiance_{part}_of_{parts}.npz",
+        radiance="results/sweeps/{sweep}/{variant}/{eye}/{scene}/parts/radiance_{part}_of_{parts}.npz",
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
-        trace=lambda w: sweeps.trace_settings(config["trace"], sweep_variant(w)),
-        light=lambda w: sweeps.light(sweep_variant(w)),
+        trace=lambda w: {**config["trace"], **sweeps.variant_trace(sweep_variant(w))},
+        light=lambda w: sweeps.variant_light(sweep_variant(w)),
     log:
         "results/logs/sweeps/{sweep}/{variant}/trace/{eye}/{scene}/{part}_of_{parts}.log",
 
@@ -63,7 +63,7 @@ use rule gather as sweep_gather with:
         spectral=config["spectral"],
         background=config["colour"]["background"],
         receptor_curves=config["colour"]["sensitivities"],
-        light=lambda w: sweeps.light(sweep_variant(w)),
+        light=lambda w: sweeps.variant_light(sweep_variant(w)),
     log:
         "results/logs/sweeps/{sweep}/{variant}/gather/{eye}/{scene}.log",
 
@@ -72,7 +72,7 @@ rule sweep_summary:
     input:
         lambda w: [run["responses"] for run in sweep_runs(w.sweep)],
     output:
-        report("results/sweeps/{sweep}/summary.csv", caption="../report/sweep.rst", category="Sweeps"),
+        summary=report("results/sweeps/{sweep}/summary.csv", caption="../report/sweep.rst", category="Sweeps"),
     params:
         runs=lambda w: sweep_runs(w.sweep),
     log:

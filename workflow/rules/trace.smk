@@ -6,7 +6,7 @@ rule trace:
         receptors="results/eyes/{eye}/receptors.csv",
         scene=scene_sources,
     output:
-        "results/{eye}/{scene}/parts/radiance_{part}_of_{parts}.npz",
+        radiance="results/{eye}/{scene}/parts/radiance_{part}_of_{parts}.npz",
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
@@ -14,7 +14,7 @@ rule trace:
         light={},
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
-    # One batch of rays per thread (beeoptics.stages._batches); Snakemake caps this at --cores.
+    # One batch of rays per thread (beeoptics.light.batching); Snakemake caps this at --cores.
     threads: 8
     resources:
         mem_mb=4000,
@@ -59,7 +59,7 @@ rule human_view:
         samples_per_pixel=config["human_view"]["samples_per_pixel"],
     log:
         "results/logs/human_view/{scene}.log",
-    # One batch of rays per thread (beeoptics.stages._batches); Snakemake caps this at --cores.
+    # One batch of rays per thread (beeoptics.light.batching); Snakemake caps this at --cores.
     threads: 8
     resources:
         mem_mb=4000,

@@ -1,5 +1,5 @@
-from beeoptics import stages
+from beeoptics.pipeline.eyes import acuity_table
+from beeoptics.pipeline.logs import logging_to
 
-with stages.logging_to(snakemake.log[0]):
-    stages.acuity_table(dict(zip(snakemake.params.eyes, snakemake.input)), snakemake.output[0],
-                        width_px=snakemake.params.width_px)
+with logging_to(snakemake.log[0]):
+    acuity_table(dict(zip(snakemake.params.eyes, snakemake.input)), snakemake.output, width_px=snakemake.params.width_px)

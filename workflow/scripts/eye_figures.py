@@ -1,5 +1,5 @@
-from beeoptics import stages
+from beeoptics.pipeline.eyes import eye_figures
+from beeoptics.pipeline.logs import logging_to
 
-with stages.logging_to(snakemake.log[0]):
-    stages.eye_figures(snakemake.params.eye, snakemake.input.relaxation, snakemake.input.receptors,
-                       dict(snakemake.output))
+with logging_to(snakemake.log[0]):
+    eye_figures(snakemake.params.eye, snakemake.input.relaxation, snakemake.input.receptors, snakemake.output)

@@ -1,12 +1,8 @@
-from beeoptics import stages
+from beeoptics.eye.optics import AcceptanceModel
+from beeoptics.pipeline.eyes import build_facets
+from beeoptics.pipeline.logs import logging_to
 
-with stages.logging_to(snakemake.log[0]):
-    stages.place_facets(
-        snakemake.params.eye,
-        snakemake.input.remeshed,
-        snakemake.output.receptors,
-        snakemake.output.quality,
-        snakemake.output.relaxation,
-        tolerance_um=snakemake.params.tolerance_um,
-        delta_rho=snakemake.params.delta_rho,
-    )
+with logging_to(snakemake.log[0]):
+    build_facets(snakemake.params.eye, snakemake.input.remeshed, snakemake.output,
+                 tolerance_um=snakemake.params.tolerance_um,
+                 acceptance=AcceptanceModel.from_config(snakemake.params.delta_rho))

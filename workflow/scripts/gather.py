@@ -1,14 +1,7 @@
-from beeoptics import stages
+from beeoptics.pipeline.logs import logging_to
+from beeoptics.pipeline.trace import gather_responses
 
-with stages.logging_to(snakemake.log[0]):
-    stages.gather_responses(
-        snakemake.input.receptors,
-        snakemake.params.scene,
-        list(snakemake.input.parts),
-        snakemake.output.responses,
-        snakemake.output.irradiance,
-        spectral=snakemake.params.spectral,
-        background=snakemake.params.background,
-        light=snakemake.params.light,
-        receptor_curves=snakemake.params.receptor_curves,
-    )
+with logging_to(snakemake.log[0]):
+    gather_responses(snakemake.input.receptors, snakemake.params.scene, list(snakemake.input.parts), snakemake.output,
+                     spectral=snakemake.params.spectral, background=snakemake.params.background,
+                     light=snakemake.params.light, receptor_curves=snakemake.params.receptor_curves)

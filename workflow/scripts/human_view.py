@@ -1,15 +1,8 @@
-from beeoptics import stages
+from beeoptics.light.batching import TraceSettings
+from beeoptics.pipeline.logs import logging_to
+from beeoptics.pipeline.trace import human_view
 
-with stages.logging_to(snakemake.log[0]):
-    t = snakemake.params.trace
-    stages.human_view(
-        snakemake.params.scene,
-        snakemake.output.png,
-        snakemake.output.exr,
-        spectral=snakemake.params.spectral,
-        samples_per_pixel=snakemake.params.samples_per_pixel,
-        depth=t["depth"],
-        seed=t["seed"],
-        batch_rays=t["batch_rays"],
-        threads=snakemake.threads,
-    )
+with logging_to(snakemake.log[0]):
+    human_view(snakemake.params.scene, snakemake.output, spectral=snakemake.params.spectral,
+               settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads,
+                                                  samples=snakemake.params.samples_per_pixel))

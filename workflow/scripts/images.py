@@ -1,11 +1,6 @@
-from beeoptics import stages
+from beeoptics.pipeline.images import retinal_images
+from beeoptics.pipeline.logs import logging_to
 
-with stages.logging_to(snakemake.log[0]):
-    stages.retinal_images(
-        snakemake.params.eye,
-        snakemake.input.receptors,
-        snakemake.input.responses,
-        snakemake.input.irradiance,
-        dict(snakemake.output),
-        width_px=snakemake.params.width_px,
-    )
+with logging_to(snakemake.log[0]):
+    retinal_images(snakemake.params.eye, snakemake.input.receptors, snakemake.input.responses,
+                   snakemake.input.irradiance, snakemake.output, width_px=snakemake.params.width_px)

@@ -1,4 +1,5 @@
-from beeoptics import stages
+from beeoptics.pipeline.eyes import remesh_eye
+from beeoptics.pipeline.logs import logging_to
 
-with stages.logging_to(snakemake.log[0]):
-    stages.remesh_eye(snakemake.params.eye, snakemake.output[0], edge_fraction=snakemake.params.edge_fraction)
+with logging_to(snakemake.log[0]):
+    remesh_eye(snakemake.params.eye, snakemake.output, edge_fraction=snakemake.params.edge_fraction)

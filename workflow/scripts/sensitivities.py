@@ -1,5 +1,6 @@
-from beeoptics import stages
+from beeoptics.pipeline.images import sensitivity_figure
+from beeoptics.pipeline.logs import logging_to
 
-with stages.logging_to(snakemake.log[0]):
-    stages.sensitivity_figure(snakemake.params.spectral, snakemake.output[0],
-                              receptor_curves=snakemake.params.receptor_curves)
+with logging_to(snakemake.log[0]):
+    sensitivity_figure(snakemake.output, spectral=snakemake.params.spectral,
+                       receptor_curves=snakemake.params.receptor_curves)

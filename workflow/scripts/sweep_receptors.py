@@ -1,4 +1,5 @@
-from beeoptics import stages
+from beeoptics.pipeline.logs import logging_to
+from beeoptics.pipeline.sweeps import with_delta_rho
 
-with stages.logging_to(snakemake.log[0]):
-    stages.with_delta_rho(snakemake.input[0], snakemake.output[0], snakemake.params.delta_rho_deg)
+with logging_to(snakemake.log[0]):
+    with_delta_rho(snakemake.input[0], snakemake.output, delta_rho_deg=snakemake.params.delta_rho_deg)

@@ -1,4 +1,5 @@
-from beeoptics import stages
+from beeoptics.pipeline.logs import logging_to
+from beeoptics.pipeline.sweeps import sweep_summary
 
-with stages.logging_to(snakemake.log[0]):
-    stages.sweep_summary(snakemake.params.runs, snakemake.output[0])
+with logging_to(snakemake.log[0]):
+    sweep_summary(snakemake.params.runs, snakemake.output)

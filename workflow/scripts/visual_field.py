@@ -1,5 +1,6 @@
-from beeoptics import stages
+from beeoptics.pipeline.images import visual_field_maps
+from beeoptics.pipeline.logs import logging_to
 
-with stages.logging_to(snakemake.log[0]):
-    stages.visual_field_maps(snakemake.input.receptors, snakemake.input.responses, snakemake.input.irradiance,
-                             snakemake.input.human, dict(snakemake.output), width_px=snakemake.params.width_px)
+with logging_to(snakemake.log[0]):
+    visual_field_maps(snakemake.input.receptors, snakemake.input.responses, snakemake.input.irradiance,
+                      snakemake.input.human, snakemake.output, width_px=snakemake.params.width_px)

@@ -1,0 +1,110 @@
+"""Building an eye: its facet lattice, the receptors on it, and how good both are.
+
+Collins §4.1: the hexagonal grid is projected onto the remeshed eye with the
+count rule, relaxed over the surface to follow the facet-diameter map, and
+each facet becomes a receptor whose axis is the interpolated surface normal.
+"""
+
+import time
+from typing import NamedTuple
+
+import igl
+import numpy as np
+
+from beeoptics.eye.facetmap import anchor_vertices, diameter_map
+from beeoptics.eye.lattice import conformal_map, project_grid
+from beeoptics.eye.meshquery import MeshQuery
+from beeoptics.eye.optics import acceptance_angles
+from beeoptics.eye.quality import lattice_quality, optics_quality, published_checks, zone_contrast
+from beeoptics.eye.receptors import delta_phi, receptor_table, to_head
+from beeoptics.eye.relax import relax
+
+
+class BuiltEye(NamedTuple):
+    """An eye's receptors (:class:`~beeoptics.io.receptortable.ReceptorTable`),
+    its quality figures (a JSON-ready dict) and its relaxation's snapshots
+    (arrays, see :func:`build_eye`)."""
+
+    receptors: object
+    quality: dict
+    relaxation: dict
+
+
+def build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress=None):
+    """Place, relax and describe the facets of an eye on its remeshed surface.
+
+    Parameters
+    ----------
+    eye : EyeDescription
+    vertices, faces, normals : ndarray
+        The remeshed eye in its local frame, mm.
+    tolerance_um : float
+        The lattice is relaxed until no facet would move further than this, µm.
+    acceptance : AcceptanceModel
+        How the receptors' acceptance angles are set.
+    progress : callable, optional
+        Called with (iteration, largest move in mm) during relaxation.
+
+    Returns
+    -------
+    BuiltEye
+        ``relaxation`` holds ``iterations`` and ``snapshots`` (s, n, 3), the
+        facets at the stored stages, ``snapshot_diameter_um`` (s, n),
+        ``delta_phi_deg`` and ``facet_diameter_um`` (n,) at rest, and
+        ``boundary_xy``, the eye's rim in its local xy-plane.
+    """
+    query = MeshQuery(vertices, faces)
+    sources = anchor_vertices(normals @ eye.rotation, eye.anchors)
+    diameters = diameter_map(vertices, faces, sources, [a["diameter_um"] * 1e-3 for a in eye.anchors],
+                             eye.diameter_power)
+    points, point_faces, pitch = project_grid(query, eye.facet_count)
+    start = time.perf_counter()
+    result = relax(query, conformal_map(vertices, faces), diameters, points, point_faces, tolerance_um * 1e-3,
+                   progress=progress)
+    seconds = time.perf_counter() - start
+
+    points, edges = result.points, result.edges
+    axes = query.interpolate(normals, points, result.faces)
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    facet_um = query.interpolate(diameters, points, result.faces) * 1e3
+    dphi = delta_phi(axes, edges)
+    drho = acceptance_angles(facet_um, acceptance, eye.rhabdom_acceptance_deg)
+
+    points_head, axes_head = to_head(eye, points, axes)
+    chord = np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1)
+    lattice = lattice_quality(edges, result.boundary, result.geodesic, chord, facet_um)
+    eye_optics = optics_quality(axes_head, dphi, facet_um, points_head)
+    zone = None
+    if "acute_zone" in eye.published:
+        spec = eye.published["acute_zone"]
+        anchor = next(a for a in eye.anchors if a["name"] == spec["anchor"])
+        zone = zone_contrast(axes_head, dphi, facet_um, anchor, spec["radius_deg"])
+    count = len(points)
+    quality = {
+        "eye": eye.name,
+        "facets_per_eye": count,
+        "facets_published": eye.facet_count,
+        "facets_published_sd": eye.facet_count_sd,
+        "grid_pitch_um": pitch * 1e3,
+        "relaxation": {
+            "iterations": result.iterations,
+            "seconds": seconds,
+            "tolerance_um": tolerance_um,
+            "fill_factor": result.fill_factor,
+        },
+        "lattice": lattice,
+        "optics": eye_optics,
+        "acute_zone": zone,
+        "published": dict(eye.published),
+        "checks": published_checks(eye, count, lattice, eye_optics, zone),
+    }
+    snapshots = [p for _, p in result.snapshots]
+    relaxation = {
+        "iterations": np.array([it for it, _ in result.snapshots]),
+        "snapshots": np.stack(snapshots),
+        "snapshot_diameter_um": np.stack([query.interpolate(diameters, *query.project(p)) * 1e3 for p in snapshots]),
+        "delta_phi_deg": dphi,
+        "facet_diameter_um": facet_um,
+        "boundary_xy": vertices[igl.boundary_loop(faces), :2],
+    }
+    return BuiltEye(receptor_table(eye, points, axes, facet_um, dphi, drho), quality, relaxation)

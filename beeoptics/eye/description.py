@@ -1,0 +1,113 @@
+"""Eye descriptions: ``eyes/<class>/eye.yaml`` and the hand-made mesh beside it.
+
+An eye description holds one compound eye, the right one, in its own local
+frame (millimetres, +z outward, so that the surface is a height field over
+xy), how that frame sits on the head, the facet count, the facet diameters
+measured at named anatomical anchors, and the published optics the eye is
+meant to reproduce, each with its source. See ``beeoptics/io/schemas/eye.schema.yaml``.
+"""
+
+from pathlib import Path
+from typing import NamedTuple
+
+import igl
+import numpy as np
+
+from beeoptics.eye.optics import RHABDOM_ACCEPTANCE_DEG
+from beeoptics.headframe import eye_rotation
+from beeoptics.io.errors import InputError
+from beeoptics.io.meshfile import read_mesh
+from beeoptics.io.validation import load_yaml, validate
+
+#: Longest eye accepted, in mm: the largest bee eyes are a few millimetres long
+#: (drone honey bees; Streinzer et al. 2013), so anything near a metre is in other units.
+MAX_EYE_SIZE_MM = 20.0
+#: Shortest eye accepted, in mm: even the smallest bees' eyes are a few tenths of a
+#: millimetre long, so a bee eye of a few thousandths is a mesh in metres.
+MIN_EYE_SIZE_MM = 0.1
+
+
+class EyeDescription(NamedTuple):
+    """One eye class, as its ``eye.yaml`` describes it.
+
+    ``rotation`` has the right eye's local axes as rows, in the head frame,
+    and ``origin`` is its local origin in the head frame, mm. ``anchors``
+    are the facet-diameter anchors (``name``, ``azimuth_deg``,
+    ``elevation_deg``, ``diameter_um``), spread with Shepard's exponent
+    ``diameter_power``. ``published`` holds the published optics the eye is
+    checked against, ``document`` the whole checked file, defaults filled in.
+    """
+
+    name: str
+    path: Path
+    mesh_path: Path
+    rotation: np.ndarray
+    origin: np.ndarray
+    facet_count: int
+    facet_count_sd: float
+    anchors: list
+    diameter_power: float
+    rhabdom_acceptance_deg: float
+    published: dict
+    document: dict
+
+
+def load_eye(path):
+    """Read and check an eye description.
+
+    Returns
+    -------
+    EyeDescription
+    """
+    path = Path(path)
+    doc = validate(load_yaml(path), "eye", path)
+    p = doc["placement"]
+    return EyeDescription(
+        name=doc["name"], path=path, mesh_path=path.parent / doc["mesh"],
+        rotation=eye_rotation(p["axis_azimuth_deg"], p["axis_elevation_deg"], p["roll_deg"]),
+        origin=np.asarray(p["origin_mm"], float),
+        facet_count=doc["facets"]["count"], facet_count_sd=doc["facets"].get("sd"),
+        anchors=doc["facet_diameter"]["anchors"], diameter_power=doc["facet_diameter"]["power"],
+        rhabdom_acceptance_deg=doc.get("optics", {}).get("rhabdom_acceptance_deg", RHABDOM_ACCEPTANCE_DEG),
+        published=doc.get("published", {}), document=doc,
+    )
+
+
+def load_eye_mesh(eye):
+    """The hand-made mesh of an eye, checked for size and orientation.
+
+    Raises
+    ------
+    InputError
+        If the mesh is missing (naming the eye file's ``mesh``), unusable
+        (see :func:`~beeoptics.io.meshfile.read_mesh`), not one sheet (faces
+        meeting at a single vertex), not in millimetres at bee size, or its
+        faces do not face outward along the eye's local +z.
+    """
+    vertices, faces = read_mesh(eye.mesh_path, source=eye.path, field="mesh")
+    pinched = ~np.asarray(igl.is_vertex_manifold(faces), bool).ravel()
+    if pinched.any():
+        raise InputError(
+            eye.mesh_path,
+            "faces",
+            f"the mesh is not manifold: faces meet at a single vertex ({int(pinched.sum())} such "
+            f"vertices, the first at {vertices[np.argmax(pinched)].round(6).tolist()}); an eye is one sheet",
+        )
+    size = np.ptp(vertices, axis=0).max()
+    if not MIN_EYE_SIZE_MM <= size <= MAX_EYE_SIZE_MM:
+        raise InputError(
+            eye.mesh_path,
+            "vertices",
+            f"the eye is {size:g} units across; eye meshes are in millimetres, "
+            f"and bee eyes are {MIN_EYE_SIZE_MM:g}–{MAX_EYE_SIZE_MM:g} mm long",
+        )
+    t = vertices[faces]
+    normal_z = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]
+    if (normal_z <= 0).any():
+        raise InputError(
+            eye.mesh_path,
+            "faces",
+            f"{int((normal_z <= 0).sum())} faces do not face +z; the eye must be a height "
+            "field over xy in its local frame, wound counter-clockwise seen from outside",
+        )
+    return vertices, faces

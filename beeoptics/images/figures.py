@@ -1,0 +1,215 @@
+"""Figures of the eyes and their optics, drawn with matplotlib and written atomically.
+
+The relaxation figure reproduces Collins' Fig. 7: the facet lattice at its
+initial projection, during relaxation and at rest, seen along the eye's z-axis
+and coloured by the target facet diameter.
+"""
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from beeoptics.eye.optics import angular_sensitivity
+from beeoptics.io.atomic import atomic_path
+from beeoptics.vision.sensitivity import RECEPTORS
+
+#: PNG metadata without a version string, so figures do not change with matplotlib's.
+_METADATA = {"Software": None}
+
+
+def save(fig, path):
+    """Write a figure as PNG atomically."""
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=150, metadata=_METADATA, format="png")
+
+
+def _eye_axes(ax, boundary_xy):
+    ax.plot(*np.vstack([boundary_xy, boundary_xy[:1]]).T, color="0.4", linewidth=0.6)
+    ax.set_aspect("equal")
+    ax.set_xlabel("eye x, mm")
+    ax.set_ylabel("eye y, mm")
+
+
+def _marker_size(ax, fig, boundary_xy, count):
+    """Marker area, points², that makes dots about 70 % of the mean facet spacing."""
+    x, y = boundary_xy.T
+    area = 0.5 * abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1)))
+    spacing = np.sqrt(area / count)
+    width_pt = ax.get_position().width * fig.get_figwidth() * 72.0
+    return (0.7 * spacing * width_pt / np.ptp(x)) ** 2
+
+
+def relaxation(snapshots, iterations, diameter_um, boundary_xy, path, eye_name=""):
+    """Collins Fig. 7: the lattice at each stored stage of relaxation.
+
+    Parameters
+    ----------
+    snapshots : ndarray (s, n, 3)
+        Facet positions, eye frame, mm, initial projection first and rest last.
+    iterations : ndarray (s,)
+        The iteration of each snapshot.
+    diameter_um : ndarray (s, n)
+        Target facet diameter at each position, µm.
+    boundary_xy : ndarray (b, 2)
+        The eye's rim, eye frame, mm.
+    """
+    s = len(snapshots)
+    fig = Figure(figsize=(3.6 * s, 3.9), constrained_layout=True)
+    axes = fig.subplots(1, s, sharex=True, sharey=True)
+    lo, hi = np.min(diameter_um), np.max(diameter_um)
+    for k, ax in enumerate(np.atleast_1d(axes)):
+        _eye_axes(ax, boundary_xy)
+        marker = _marker_size(ax, fig, boundary_xy, snapshots.shape[1])
+        dots = ax.scatter(*snapshots[k, :, :2].T, c=diameter_um[k], s=marker, vmin=lo, vmax=hi,
+                          cmap="viridis", linewidths=0)
+        stage = "initial grid" if k == 0 else "at rest" if k == s - 1 else "relaxing"
+        ax.set_title(f"{stage}, iteration {iterations[k]}", fontsize=9)
+    fig.colorbar(dots, ax=axes, label="target facet diameter, µm", shrink=0.8)
+    fig.suptitle(f"{eye_name}: facet lattice relaxation (Collins Fig. 7)")
+    save(fig, path)
+
+
+def eye_map(points, values, boundary_xy, path, label, title):
+    """A per-facet quantity over the eye, seen along its z-axis, shaded between facets."""
+    fig = Figure(figsize=(5.2, 4.4), constrained_layout=True)
+    ax = fig.subplots()
+    _eye_axes(ax, boundary_xy)
+    lo, hi = np.percentile(values, [1, 99])
+    field = ax.tripcolor(*points[:, :2].T, values, shading="gouraud", vmin=lo, vmax=hi, cmap="magma")
+    fig.colorbar(field, ax=ax, label=label)
+    ax.set_title(title, fontsize=10)
+    save(fig, path)
+
+
+def sensitivities(wavelengths, receptors, overall, path, source):
+    """Collins Fig. 6 and Fig. 5a: the receptor curves and the overall sensitivity S(λ).
+
+    Parameters
+    ----------
+    wavelengths : ndarray (n,)
+        nm.
+    receptors : ndarray (n, 3)
+        S_UV, S_B, S_G, drawn each with its peak at one.
+    overall : ndarray (n,)
+        S(λ), drawn on a log axis as von Helversen (1972) plots it.
+    source : str
+        Where the receptor curves come from, for the title.
+    """
+    fig = Figure(figsize=(9.0, 3.6), constrained_layout=True)
+    left, right = fig.subplots(1, 2)
+    for k, (name, colour) in enumerate(zip(RECEPTORS, ("tab:purple", "tab:blue", "tab:green"))):
+        left.plot(wavelengths, receptors[:, k] / receptors[:, k].max(), color=colour, label=f"S$_{{{name}}}$")
+    left.set(xlabel="wavelength, nm", ylabel="relative sensitivity",
+             title=f"receptor sensitivities (Fig. 6)\n{source}")
+    left.legend(frameon=False)
+    right.semilogy(wavelengths, overall, color="k")
+    right.set(xlabel="wavelength, nm", ylabel="S(λ), relative",
+              title="overall sensitivity (Fig. 5a)\npeaks 16 : 2.7 : 1 (von Helversen 1972)")
+    for ax in (left, right):
+        ax.set_xlim(wavelengths[0], wavelengths[-1])
+    save(fig, path)
+
+
+def angular_sensitivities(delta_rho_deg, delta_phi_deg, path, eye_name=""):
+    """Receptor acceptance functions A(θ) of an eye, with its interommatidial angle marked.
+
+    A(θ) is drawn at the 5th, 50th and 95th percentiles of the receptors'
+    Δρ (once if every receptor has the same), against the median Δφ: where a
+    neighbour's axis lies.
+
+    Parameters
+    ----------
+    delta_rho_deg, delta_phi_deg : ndarray (n,)
+        Each receptor's acceptance and interommatidial angles, degrees.
+    """
+    theta = np.linspace(0.0, 5.0, 501)
+    levels = dict(zip(("5th percentile", "median", "95th percentile"), np.percentile(delta_rho_deg, [5, 50, 95])))
+    if np.ptp(list(levels.values())) == 0.0:
+        levels = {"every receptor": levels["median"]}
+    curves = {f"Δρ {v:.2f}° ({k})": angular_sensitivity(np.radians(theta), np.radians(v)) for k, v in levels.items()}
+    median_phi = float(np.median(delta_phi_deg))
+    fig = Figure(figsize=(5.2, 3.6), constrained_layout=True)
+    ax = fig.subplots()
+    for label, a in curves.items():
+        ax.plot(theta, a, label=label)
+    ax.axhline(0.5, color="0.7", linewidth=0.6)
+    ax.axvline(median_phi, color="0.4", linestyle="--", linewidth=0.8)
+    ax.annotate(f"median Δφ {median_phi:.2f}°", (median_phi, 0.55), xytext=(4, 0),
+                textcoords="offset points", fontsize=8)
+    ax.set(xlabel="angle from the optical axis θ, °", ylabel="A(θ)", ylim=(0, 1.02),
+           title=f"{eye_name}: acceptance function, A = exp(−2.77 θ²/Δρ²) (Snyder 1977)")
+    ax.title.set_fontsize(9)
+    ax.legend(frameon=False, fontsize=8)
+    save(fig, path)
+
+
+def colour_space(points, colours, outline, locus, path, title, labels=RECEPTORS):
+    """Receptor colours in a bee colour space (Collins Fig. 5b), with the spectral locus.
+
+    Parameters
+    ----------
+    points : ndarray (n, 2)
+        Coordinates of each receptor's colour.
+    colours : ndarray (n, 3)
+        sRGB in [0, 1] to draw each point with.
+    outline : ndarray (k, 2)
+        Vertices of the space's outline (triangle or hexagon), UV first.
+    locus : SpectralLocus-like (wavelengths, xy)
+        Monochromatic lights, drawn as a line with every 50 nm labelled.
+    labels : sequence of str
+        Names of the receptor vertices, in the order of the first outline vertices.
+    """
+    wl, xy = locus
+    fig = Figure(figsize=(5.0, 5.0), constrained_layout=True)
+    ax = fig.subplots()
+    ax.plot(*np.vstack([outline, outline[:1]]).T, color="0.5", linewidth=0.8)
+    step = max(1, len(outline) // len(labels))
+    for k, name in enumerate(labels):
+        ax.annotate(name, outline[k * step], xytext=(6 * np.sign(outline[k * step][0] or 1), 4),
+                    textcoords="offset points", fontsize=9, color="0.3")
+    ax.plot(*xy.T, color="k", linewidth=0.8)
+    for w, p in zip(wl, xy):
+        if w % 50 == 0:
+            ax.plot(*p, ".", color="k", markersize=3)
+            ax.annotate(f"{w:g}", p, xytext=(3, 3), textcoords="offset points", fontsize=7)
+    ax.scatter(*points.T, c=np.clip(colours, 0, 1), s=4, linewidths=0, alpha=0.7)
+    ax.plot(0, 0, "+", color="0.3")
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    save(fig, path)
+
+
+def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):
+    """Equirectangular maps of the bee's visual field beside the human view of the same scene.
+
+    Parameters
+    ----------
+    panels : dict of str to ndarray (h, w, 3)
+        Title to display-ready RGB map, NaN where no receptor sees.
+    eyes : ndarray (h, w)
+        Bits of the eyes that see each direction; the binocular overlap
+        (both bits) is outlined.
+    azimuth_deg, elevation_deg : ndarray
+        Pixel centres.
+    human : ndarray (H, W, 3) or None
+        The human pinhole render.
+    """
+    n = len(panels) + (human is not None)
+    fig = Figure(figsize=(5.2 * n, 3.3), constrained_layout=True)
+    axes = fig.subplots(1, n)
+    box = (azimuth_deg[0], azimuth_deg[-1], elevation_deg[-1], elevation_deg[0])
+    for ax, (name, rgb) in zip(axes, panels.items()):
+        ax.imshow(np.nan_to_num(rgb, nan=0.35), extent=box, interpolation="nearest")
+        ax.contour(azimuth_deg, elevation_deg, (eyes == 3).astype(float), levels=[0.5],
+                   colors="w", linewidths=0.8)
+        ax.set(xlim=(180, -180), ylim=(-90, 90), xticks=range(-180, 181, 60), yticks=range(-90, 91, 30),
+               xlabel="azimuth, ° (+ to the bee's left)", ylabel="elevation, °")
+        ax.set_title(name, fontsize=9)
+        ax.grid(color="0.6", linewidth=0.3)
+    if human is not None:
+        axes[-1].imshow(human)
+        axes[-1].set_axis_off()
+        axes[-1].set_title("human view (CIE 1931, sRGB)", fontsize=9)
+    fig.suptitle(title + " — white outline: binocular overlap; grey: not seen", fontsize=10)
+    save(fig, path)

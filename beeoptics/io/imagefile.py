@@ -1,0 +1,61 @@
+"""Writing images with OpenImageIO: PNG for viewing, float EXR for analysis.
+
+EXR files carry named channels. OpenImageIO stamps files with the current
+time by default; the ``DateTime`` attribute is pinned here, so that the
+same inputs give byte-identical files.
+"""
+
+import numpy as np
+import OpenImageIO as oiio
+
+from beeoptics.io.atomic import atomic_path
+from beeoptics.io.errors import InputError
+
+#: The timestamp written into every image (EXIF form), fixed for reproducibility.
+DATETIME = "2000:01:01 00:00:00"
+
+
+def _write(path, pixels, fmt, channel_names=None, **attributes):
+    pixels = np.ascontiguousarray(pixels)
+    if pixels.ndim == 2:
+        pixels = pixels[:, :, None]
+    h, w, nc = pixels.shape
+    spec = oiio.ImageSpec(w, h, nc, fmt)
+    if channel_names:
+        spec.channelnames = tuple(channel_names)
+    spec.attribute("DateTime", DATETIME)
+    spec.attribute("Software", "beeoptics")
+    for k, v in attributes.items():
+        spec.attribute(k, v)
+    with atomic_path(path) as tmp:
+        out = oiio.ImageOutput.create(str(tmp))
+        if out is None or not out.open(str(tmp), spec):
+            raise OSError(f"cannot write {path}: {oiio.geterror()}")
+        ok = out.write_image(pixels)
+        out.close()
+        if not ok:
+            raise OSError(f"cannot write {path}: {oiio.geterror()}")
+
+
+def write_png(path, rgb):
+    """Write an image given as floats in [0, 1] (display-encoded) as 8-bit PNG."""
+    _write(path, np.rint(np.clip(rgb, 0.0, 1.0) * 255.0).astype(np.uint8), oiio.UINT8)
+
+
+def write_exr(path, data, channel_names):
+    """Write float data (h, w, c) as a zip-compressed EXR with named channels."""
+    _write(path, np.asarray(data, np.float32), oiio.FLOAT, channel_names, compression="zip")
+
+
+def read_image(path):
+    """Pixels (h, w, c) as float32 and the channel names.
+
+    Raises
+    ------
+    InputError
+        If the file is missing or not an image OpenImageIO reads.
+    """
+    buf = oiio.ImageBuf(str(path))
+    if buf.has_error:
+        raise InputError(path, "", f"cannot read image: {buf.geterror()}")
+    return buf.get_pixels(oiio.FLOAT), list(buf.spec().channelnames)

@@ -1,0 +1,103 @@
+"""Reading triangle meshes, and refusing the ones that cannot be used.
+
+Meshes are read with pymeshlab, which knows OBJ, PLY, STL, OFF and glTF
+(``.gltf`` and ``.glb``).
+An eye or scene mesh must exist, hold faces, be made of triangles (a
+polygon would be split along an arbitrary diagonal, so its shape would
+depend on the reader) and be manifold along its edges.
+"""
+
+from pathlib import Path
+
+import igl
+import numpy as np
+import pymeshlab
+
+from beeoptics.io.atomic import atomic_path
+from beeoptics.io.errors import InputError
+
+
+def read_mesh(path, patterns=False, source=None, field=""):
+    """Vertices (n, 3) and triangles (m, 3) of a mesh file, checked.
+
+    With ``patterns``, also the face colours (m, 3) in [0, 1] and the
+    texture coordinates of each face's corners (m, 3, 2), either None
+    where the file has none. A missing file is reported against ``source``
+    and ``field``, the file and key that name the mesh, when given.
+
+    Raises
+    ------
+    InputError
+        If the file is missing or unreadable, empty, not all triangles,
+        or not edge-manifold.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(source or path, field, f"no such mesh file {path}")
+    if path.stat().st_size == 0:
+        raise InputError(path, "faces", "the file is empty: the mesh has no faces")
+    ms = pymeshlab.MeshSet()
+    try:
+        ms.load_new_mesh(str(path))
+    except pymeshlab.PyMeshLabException as e:
+        # pymeshlab's message spans several lines and repeats the path; keep one line.
+        detail = " ".join(str(e).replace(str(path), path.name).split())
+        raise InputError(path, "", f"cannot read mesh: {detail}") from None
+    mesh = ms.current_mesh()
+    if mesh.face_number() == 0:
+        raise InputError(path, "faces", "the mesh has no faces")
+    polygons = mesh.polygonal_face_list()
+    sides = {len(p) for p in polygons}
+    if sides != {3}:
+        raise InputError(
+            path, "faces", f"faces must be triangles; found faces with {sorted(sides - {3})} sides"
+        )
+    vertices = mesh.vertex_matrix().astype(np.float64)
+    faces = mesh.face_matrix().astype(np.int64)
+    if not igl.is_edge_manifold(faces)[0]:
+        raise InputError(path, "faces", "the mesh is not manifold: an edge is shared by more than two faces")
+    if not patterns:
+        return vertices, faces
+    uv = mesh.wedge_tex_coord_matrix().reshape(-1, 3, 2) if mesh.has_wedge_tex_coord() else None
+    return vertices, faces, _face_colours(mesh, faces), uv
+
+
+def _face_colours(mesh, faces):
+    """Face colours (m, 3), or None.
+
+    glTF has no face colours: pymeshlab puts a primitive's material colour
+    (``baseColorFactor``) on the primitive's own vertices. A face whose three
+    corners agree has that colour; if any face's corners differ, the mesh has
+    no face colours.
+    """
+    if mesh.has_face_color():
+        return mesh.face_color_matrix()[:, :3]
+    if mesh.has_vertex_color():
+        corners = mesh.vertex_color_matrix()[:, :3][faces]
+        if (corners == corners[:, :1]).all():
+            return corners[:, 0]
+    return None
+
+
+def write_mesh(path, vertices, faces, normals=None):
+    """Write a triangle mesh as binary PLY, with vertex normals if given, atomically."""
+    extra = {} if normals is None else {"N": np.ascontiguousarray(normals, dtype=np.float64)}
+    with atomic_path(path) as tmp:
+        igl.writePLY(
+            str(tmp),
+            np.ascontiguousarray(vertices, dtype=np.float64),
+            np.ascontiguousarray(faces, dtype=np.int64),
+            **extra,
+        )
+
+
+def read_mesh_normals(path):
+    """Vertices, faces and vertex normals of a mesh this package wrote."""
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(path))
+    m = ms.current_mesh()
+    return (
+        m.vertex_matrix().astype(np.float64),
+        m.face_matrix().astype(np.int64),
+        m.vertex_normal_matrix().astype(np.float64),
+    )

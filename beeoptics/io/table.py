@@ -1,0 +1,78 @@
+"""CSV tables of named columns, the form every per-receptor result takes.
+
+Tables are plain comma-separated text with a header row, readable as they
+are by R (``read.csv``), pandas or a spreadsheet. Floats are written with
+nine significant digits, enough to round-trip the float32 values of the
+tracer and to keep metre-scale scene coordinates at micrometre precision.
+"""
+
+import csv
+
+import numpy as np
+
+from beeoptics.io.atomic import atomic_path
+from beeoptics.io.errors import InputError
+
+
+def write_table(path, columns):
+    """Write a dict of equal-length columns to a CSV file, atomically."""
+    names = list(columns)
+    cols = [np.asarray(columns[k]) for k in names]
+    n = len(cols[0])
+    if any(len(c) != n for c in cols):
+        raise ValueError("columns differ in length")
+    text = [c.astype(str) if c.dtype.kind in "OUSb" else _format(c) for c in cols]
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(names)
+        w.writerows(zip(*text))
+
+
+def _format(column):
+    if column.dtype.kind in "iu":
+        return column.astype(str)
+    return np.char.mod("%.9g", column.astype(float))
+
+
+def read_table(path, numeric=(), text=()):
+    """Read a CSV table into a dict of arrays: numbers as int or float, others as str.
+
+    Parameters
+    ----------
+    path : str or Path
+    numeric, text : sequence of str
+        Columns that must be present; ``numeric`` ones must hold numbers.
+
+    Raises
+    ------
+    InputError
+        If the file is missing or empty, a listed column is absent, or a
+        numeric column holds something else.
+    """
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+    except FileNotFoundError:
+        raise InputError(path, "", "no such file") from None
+    if not rows:
+        raise InputError(path, "", "the table is empty")
+    header, body = rows[0], rows[1:]
+    for name in [*numeric, *text]:
+        if name not in header:
+            raise InputError(path, name, "missing column")
+    columns = {}
+    for j, name in enumerate(header):
+        values = [r[j] for r in body]
+        columns[name] = _parse(values, path, name, numeric=name in numeric)
+    return columns
+
+
+def _parse(values, path, name, numeric):
+    for kind in (int, float):
+        try:
+            return np.array([kind(v) for v in values])
+        except ValueError:
+            continue
+    if numeric:
+        raise InputError(path, name, "holds a value that is not a number")
+    return np.array(values)

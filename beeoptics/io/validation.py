@@ -1,0 +1,202 @@
+"""Checking input files against the JSON schemas shipped in ``beeoptics/io/schemas``.
+
+A schema's ``default`` values are filled in while it is checked, and the
+first violation is raised as an :class:`~beeoptics.io.errors.InputError`
+naming the file and the dotted path of the offending field. The workflow's
+configuration is checked the same way against its own schema
+(:func:`validate_config`).
+"""
+
+import copy
+import difflib
+import math
+import re
+from functools import cache
+from pathlib import Path
+
+import yaml
+from jsonschema import Draft202012Validator, validators
+
+from beeoptics.io.errors import InputError
+
+#: The schemas: the workflow's config, an eye class, a scene.
+SCHEMAS = Path(__file__).parent / "schemas"
+CONFIG_SCHEMA = SCHEMAS / "config.schema.yaml"
+
+
+def _with_defaults(cls):
+    check_properties = cls.VALIDATORS["properties"]
+
+    def properties(validator, props, instance, schema):
+        if isinstance(instance, dict):
+            for name, sub in props.items():
+                if "default" in sub and name not in instance:
+                    # A copy: a mutable default ({} or []) must not be shared between files.
+                    instance[name] = copy.deepcopy(sub["default"])
+        yield from check_properties(validator, props, instance, schema)
+
+    return validators.extend(cls, {"properties": properties})
+
+
+@cache
+def _validator(schema_name):
+    return _schema_validator(SCHEMAS / f"{schema_name}.schema.yaml")
+
+
+@cache
+def _schema_validator(schema_path):
+    text = Path(schema_path).read_text()
+    return _with_defaults(Draft202012Validator)(yaml.safe_load(text))
+
+
+def _field_and_message(error):
+    """The dotted path of the offending field, and what is wrong with it."""
+    path = [str(p) for p in error.absolute_path]
+    message = error.message
+    extra = []
+    if error.validator == "additionalProperties" and error.validator_value is False:
+        allowed = sorted(error.schema.get("properties", {}))
+        extra = sorted(map(str, set(error.instance) - set(allowed)))
+    if extra:
+        key = extra[0]
+        path.append(key)
+        close = difflib.get_close_matches(key, allowed, n=1)
+        message = f"unknown key {key!r}; " + (
+            f"did you mean {close[0]!r}?" if close else f"allowed here: {', '.join(allowed)}"
+        )
+    elif error.validator == "required":
+        path.append(next(k for k in error.validator_value if k not in error.instance))
+    return ".".join(path), message
+
+
+def _non_finite(data, path=()):
+    """The dotted path of the first NaN or infinite number in parsed YAML, or None.
+
+    JSON Schema's bounds do not catch NaN (every comparison with it is
+    false), and YAML reads ``.nan`` and ``.inf`` as numbers.
+    """
+    if isinstance(data, float) and not math.isfinite(data):
+        return ".".join(path)
+    items = data.items() if isinstance(data, dict) else enumerate(data) if isinstance(data, list) else ()
+    for key, value in items:
+        found = _non_finite(value, (*path, str(key)))
+        if found is not None:
+            return found
+    return None
+
+
+def _check(data, validator, path):
+    if not isinstance(data, dict):
+        raise InputError(path, "", "expected a mapping of keys to values")
+    errors = sorted(validator.iter_errors(data), key=lambda e: [(isinstance(k, str), k) for k in e.absolute_path])
+    if errors:
+        raise InputError(path, *_field_and_message(errors[0]))
+    field = _non_finite(data)
+    if field is not None:
+        raise InputError(path, field, "must be a finite number, not NaN or infinity")
+    return data
+
+
+def validate(data, schema_name, path):
+    """Check ``data`` against a packaged schema, filling in defaults in place.
+
+    Parameters
+    ----------
+    data : dict
+        Parsed file contents.
+    schema_name : str
+        ``"eye"`` or ``"scene"``.
+    path : str or Path
+        The file the data came from, for the error message.
+
+    Raises
+    ------
+    InputError
+    """
+    return _check(data, _validator(schema_name), path)
+
+
+#: Where each list of classes in the config finds its folders, and the file each folder holds.
+CONFIG_FOLDERS = {"eyes": ("eyes_dir", "eye.yaml"), "scenes": ("scenes_dir", "scene.yaml")}
+
+
+def validate_config(config, schema_path, source="config", folders=True):
+    """Check the workflow's configuration, filling in defaults in place.
+
+    The same check as the packaged schemas get: the first violation of
+    ``schema_path`` (:data:`CONFIG_SCHEMA`) as one line
+    naming ``source`` and the dotted key, with a suggestion for a misspelt
+    key; then, with ``folders``, that every eye class and scene named, in
+    the run or in a sweep, has its folder, and that a named adapting
+    background is a material of each scene, so that a typo stops the run before any job starts.
+    Relative folders are taken from the working directory, as the rules take them.
+
+    Parameters
+    ----------
+    config : dict
+        The merged configuration (Snakemake's ``config``).
+    schema_path : str or Path
+    source : str or Path
+        The config file(s), for the error message.
+
+    Raises
+    ------
+    InputError
+    """
+    _check(config, _schema_validator(Path(schema_path)), source)
+    if folders:
+        for key, (dir_key, filename) in CONFIG_FOLDERS.items():
+            root = Path(config[dir_key])
+            named = [(f"{key}.{i}", n) for i, n in enumerate(config[key])]
+            named += [(f"sweeps.{s}.{key}.{i}", n) for s, sweep in config.get("sweeps", {}).items()
+                      for i, n in enumerate(sweep.get(key, []))]
+            for field, name in named:
+                if not (root / name / filename).is_file():
+                    found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
+                    raise InputError(
+                        source, field,
+                        f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
+                        f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
+                    )
+        root = Path(config["scenes_dir"])
+        scenes = [*config["scenes"], *(n for sweep in config.get("sweeps", {}).values() for n in sweep["scenes"])]
+        for name in dict.fromkeys(scenes):
+            check_background(root / name / "scene.yaml", config["colour"]["background"], source, "colour.background")
+    return config
+
+
+def check_background(scene_file, background, source, field):
+    """Refuse a named adapting background that is not a material of the scene.
+
+    ``"scene"`` (the scene's mean) is always there. The error names
+    ``source`` and ``field``: the config key that asked for it, or the scene file.
+    """
+    if background == "scene":
+        return
+    scene = load_yaml(scene_file)
+    materials = (scene.get("materials") if isinstance(scene, dict) else None) or {}
+    if background not in materials:
+        raise InputError(source, field, f"no material {background!r} in {scene_file} "
+                         f"(its materials: {', '.join(materials) or 'none'})")
+
+
+class _Loader(yaml.SafeLoader):
+    """PyYAML's safe loader, reading floats as YAML 1.2 does (so that 1e6 is a number)."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$"),
+    list("-+0123456789."),
+)
+
+
+def load_yaml(path):
+    """Parse a YAML file, turning a missing file or a syntax error into an InputError."""
+    try:
+        with open(path) as f:
+            return yaml.load(f, Loader=_Loader)
+    except FileNotFoundError:
+        raise InputError(path, "", "no such file") from None
+    except yaml.YAMLError as e:
+        raise InputError(path, "", f"not valid YAML: {e}") from None

@@ -1,0 +1,83 @@
+"""The Floral Reflectance Database (FReD), as shipped in the ``dreye`` package.
+
+FReD (Arnold et al. 2010) holds some 2,200 reflectance spectra of flowers
+and leaves measured from 300 nm, mostly by Chittka and colleagues. The
+``dreye`` package (MIT licence) ships it as a Feather file; it is read
+here directly, without importing ``dreye``, whose own imports are heavy.
+Reflectance is a fraction of a white standard. As in dreye, the database's
+duplicate rows are dropped and missing values read as zero; values are
+clipped to [0, 1], since a few raw readings fall just outside it.
+
+References
+----------
+Arnold SEJ, Faruq S, Savolainen V, McOwan PW, Chittka L (2010) FReD: the
+floral reflectance database — a web portal for analyses of flower colour.
+PLoS ONE 5:e14287.
+"""
+
+import importlib.util
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from beeoptics.io.errors import InputError
+from beeoptics.spectra import resample
+
+#: Metadata columns of the database, and the names this package gives them.
+FIELDS = {"data_id": "data_id", "genus": "flower_genus", "species": "flower_species",
+          "family": "flower_family", "part": "part_of_flower", "human_colour": "human_color",
+          "bee_colour": "bee_color", "country": "country"}
+
+
+def database_path():
+    """Path of FReD's Feather file inside the installed ``dreye`` package."""
+    spec = importlib.util.find_spec("dreye")
+    if spec is None or not spec.submodule_search_locations:
+        raise InputError("dreye", "", "the dreye package is not installed (pip install --no-deps dreye)")
+    return Path(spec.submodule_search_locations[0]) / "datasets" / "flowers.feather"
+
+
+SPECTRUM = ["data_id", "wavelengths", "reflectance"]
+
+
+@cache
+def _spectra():
+    """The spectral columns of every row: data_id, wavelength (nm), reflectance."""
+    return pd.read_feather(database_path(), columns=SPECTRUM)
+
+
+def catalogue():
+    """One row of metadata per spectrum (a pandas DataFrame)."""
+    return pd.read_feather(database_path()).drop(columns=SPECTRUM[1:]).drop_duplicates("data_id")
+
+
+def find(source="FReD", field="fred", **query):
+    """The ``data_id`` of the one spectrum matching ``query`` (keys of :data:`FIELDS`).
+
+    Raises
+    ------
+    InputError
+        If no spectrum or more than one matches.
+    """
+    rows = catalogue()
+    for key, value in query.items():
+        if key not in FIELDS:
+            raise InputError(source, f"{field}.{key}", f"unknown FReD field; use one of {sorted(FIELDS)}")
+        rows = rows[rows[FIELDS[key]].astype(str).str.lower() == str(value).lower()]
+    if len(rows) != 1:
+        ids = rows["data_id"].tolist()[:10]
+        raise InputError(source, field, f"{len(rows)} FReD spectra match {query}; give data_id (e.g. {ids})")
+    return int(rows["data_id"].iloc[0])
+
+
+def reflectance(data_id, wavelengths, source="FReD", field="fred"):
+    """One FReD spectrum on the grid, as a fraction in [0, 1]."""
+    df = _spectra()
+    rows = df[df["data_id"].to_numpy() == data_id].drop_duplicates().sort_values("wavelengths", kind="stable")
+    if rows.empty:
+        raise InputError(source, field, f"no FReD spectrum with data_id {data_id}")
+    values = resample(rows["wavelengths"].to_numpy(), rows["reflectance"].fillna(0.0).to_numpy(), wavelengths,
+                      source, f"{field} (FReD data_id {data_id})")
+    return np.clip(values, 0.0, 1.0)

@@ -1,0 +1,105 @@
+"""Materials: spectral reflectance, an optional glossy lobe, an optional emission.
+
+A spectrum in a scene file is one of:
+
+``0.5`` or ``{constant: 0.5}``
+    Flat.
+``{csv: {file: spectra.csv, column: name}}``
+    A column of a CSV in pavo's layout (see :mod:`beeoptics.spectra`).
+``{fred: {data_id: 1234}}`` or ``{fred: {genus: …, species: …, part: …}}``
+    A measured flower or leaf spectrum from FReD (:mod:`beeoptics.light.fred`).
+``{sigmoid: {low: …, high: …, edge_nm: …, width_nm: …}}``
+    A logistic step from ``low`` to ``high`` centred on ``edge_nm``: the
+    shape of most flower spectra, which Chittka & Menzel (1992) describe by
+    the wavelength of their steep rise (their "marker points").
+``{gaussian: {base: …, peak: …, centre_nm: …, width_nm: …}}``
+    A band of reflectance (or emission) on a flat base, width the
+    standard deviation.
+``{cie_d: 6504}``
+    The CIE D-series illuminant of that correlated colour temperature,
+    1 at 560 nm (for emitters and skies).
+
+A material is ``{reflectance: <spectrum>, gloss: {specular: ks, exponent: n},
+emission: <spectrum>}``; only ``reflectance`` is required. The BRDF is
+Lambertian with the spectral reflectance, plus, with ``gloss``, a
+normalised Phong lobe (Lafortune & Willems 1994) of spectrally flat
+albedo ``ks``, as the surface reflection of a dielectric such as a waxy
+leaf cuticle is.
+
+References
+----------
+Chittka L, Menzel R (1992) The evolutionary adaptation of flower colours
+and the insect pollinators' colour vision. J Comp Physiol A 171:171–181.
+Lafortune EP, Willems YD (1994) Using the modified Phong reflectance model
+for physically based rendering. Report CW197, KU Leuven.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from beeoptics.light import fred
+from beeoptics.io.errors import InputError
+from beeoptics.light.sky import cie_daylight
+from beeoptics.spectra import read_pavo_csv
+
+
+def spectrum(spec, wavelengths, base_dir, source, field):
+    """A spectrum spec (see the module docstring) evaluated on the grid."""
+    wl = np.asarray(wavelengths, float)
+    if isinstance(spec, (int, float)) and not isinstance(spec, bool):
+        return np.full(len(wl), float(spec))
+    if not isinstance(spec, dict) or len(spec) != 1:
+        raise InputError(source, field, f"a spectrum is a number or a mapping with one key, not {spec!r}")
+    (kind, args), = spec.items()
+    where = f"{field}.{kind}"
+    try:
+        if kind == "constant":
+            return np.full(len(wl), float(args))
+        if kind == "csv":
+            names, _, values = read_pavo_csv(Path(base_dir) / args["file"], wl)
+            if args["column"] not in names:
+                raise InputError(Path(base_dir) / args["file"], args["column"], "no such column")
+            return values[:, names.index(args["column"])]
+        if kind == "fred":
+            data_id = args["data_id"] if "data_id" in args else fred.find(source, where, **args)
+            return fred.reflectance(int(data_id), wl, source, where)
+        if kind == "sigmoid":
+            return args["low"] + (args["high"] - args["low"]) / (
+                1.0 + np.exp(-(wl - args["edge_nm"]) / args["width_nm"]))
+        if kind == "gaussian":
+            return args["base"] + (args["peak"] - args["base"]) * np.exp(
+                -0.5 * ((wl - args["centre_nm"]) / args["width_nm"]) ** 2)
+        if kind == "cie_d":
+            return cie_daylight(wl, float(args))
+    except (KeyError, TypeError) as e:
+        raise InputError(source, where, f"missing or malformed parameter {e}") from None
+    raise InputError(source, field, f"unknown spectrum kind {kind!r}; use constant, csv, fred, sigmoid, gaussian or cie_d")
+
+
+def material(spec, wavelengths, base_dir, source, name):
+    """A material's reflectance, emission and gloss, checked.
+
+    Returns
+    -------
+    dict
+        ``reflectance`` and ``emission`` on the grid, ``specular`` (albedo
+        of the glossy lobe) and ``exponent`` (its Phong exponent).
+    """
+    field = f"materials.{name}"
+    if not isinstance(spec, dict) or "reflectance" not in spec:
+        raise InputError(source, field, "a material needs a reflectance")
+    unknown = set(spec) - {"reflectance", "gloss", "emission"}
+    if unknown:
+        raise InputError(source, f"{field}.{sorted(unknown)[0]}", "unknown material property")
+    rho = spectrum(spec["reflectance"], wavelengths, base_dir, source, f"{field}.reflectance")
+    gloss = spec.get("gloss", {"specular": 0.0, "exponent": 1.0})
+    ks = float(gloss.get("specular", 0.0))
+    if np.isnan(rho).any() or rho.min() < 0.0 or rho.max() + ks > 1.0:
+        raise InputError(source, f"{field}.reflectance",
+                         "reflectance plus specular albedo must lie in [0, 1] at every wavelength")
+    emission = spectrum(spec.get("emission", 0.0), wavelengths, base_dir, source, f"{field}.emission")
+    if np.isnan(emission).any() or emission.min() < 0.0:
+        raise InputError(source, f"{field}.emission", "emission must be non-negative")
+    return {"reflectance": rho, "emission": emission, "specular": ks,
+            "exponent": float(gloss.get("exponent", 1.0))}

@@ -1,0 +1,96 @@
+"""The sampler: random numbers, stratified sample sets, and directions about an axis.
+
+Random numbers are counter-based: the same number for the same (seed,
+stream, sample, dimension). A stream is a receptor (or pixel), a sample one
+of its rays, a dimension one random choice along that ray's path. Because
+each number is a hash of those four integers (SplitMix64's finaliser,
+Steele et al. 2014), a receptor's samples do not depend on which other
+receptors are traced with it, or in what order: chunked runs are
+bit-identical to whole ones.
+
+A bundle of rays (a receptor's cone, a pixel) is stratified by one
+scrambled Halton set (Owen 2017) shared by all bundles, each shifting it by
+its own random offset (Cranley & Patterson 1976).
+
+References
+----------
+Steele GL, Lea D, Flood CH (2014) Fast splittable pseudorandom number
+generators. Proc OOPSLA 2014:453–472.
+Cranley R, Patterson TNL (1976) Randomization of number theoretic methods
+for multiple integration. SIAM J Numer Anal 13:904–914.
+Owen AB (2017) A randomized Halton algorithm in R. arXiv:1706.02808.
+Duff T, Burgess J, Christensen P, Hery C, Kensler A, Liani M, Villemin R
+(2017) Building an orthonormal basis, revisited. J Comput Graph Tech 6:1–8.
+"""
+
+import numpy as np
+from scipy.stats import qmc
+
+
+def _splitmix(x):
+    x = x + np.uint64(0x9E3779B97F4A7C15)
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+def uniform(seed, stream, sample, dimension):
+    """Counter-based uniform numbers in [0, 1): one per (stream, sample) pair, for one dimension."""
+    with np.errstate(over="ignore"):
+        key = _splitmix(np.uint64(seed) ^ _splitmix(
+            (stream.astype(np.uint64) << np.uint64(32)) ^ sample.astype(np.uint64)
+            ^ (np.uint64(dimension) << np.uint64(56))))
+    return (key >> np.uint64(11)).astype(np.float64) * (1.0 / 2.0**53)
+
+
+def shifted_halton(samples, seed, streams, dimensions):
+    """Points in the unit square: one scrambled Halton set, shifted per stream.
+
+    Parameters
+    ----------
+    samples : int
+        Points per stream.
+    seed : int
+    streams : ndarray of int, shape (n,)
+        The bundles' indices among all bundles of the run.
+    dimensions : pair of int
+        The random dimensions of the two shifts.
+
+    Returns
+    -------
+    ndarray, shape (n, samples, 2)
+    """
+    base = qmc.Halton(2, scramble=True, seed=np.random.default_rng(seed)).random(samples)
+    n = len(streams)
+    shift = np.stack([uniform(seed, streams, np.zeros(n, np.int64), d) for d in dimensions], -1)
+    return (base[None] + shift[:, None, :]) % 1.0
+
+
+def tangent_frames(axes):
+    """Two unit vectors perpendicular to each unit axis and to each other, shape (n, 2, 3).
+
+    The branchless basis of Duff et al. (2017): no cross products or
+    square roots, and continuous everywhere but across the plane z = 0.
+    """
+    x, y, z = np.asarray(axes, float).T
+    sign = np.where(z >= 0.0, 1.0, -1.0)
+    a = -1.0 / (sign + z)
+    b = x * y * a
+    frames = np.empty((len(x), 2, 3))
+    frames[:, 0, 0] = 1.0 + sign * x * x * a
+    frames[:, 0, 1] = sign * b
+    frames[:, 0, 2] = -sign * x
+    frames[:, 1, 0] = b
+    frames[:, 1, 1] = sign + y * y * a
+    frames[:, 1, 2] = -y
+    return frames
+
+
+def around(axis, cos_t, phi):
+    """Unit directions at polar cosine ``cos_t`` and azimuth ``phi`` about ``axis``, (n, 3) or (3,)."""
+    frame = tangent_frames(np.reshape(axis, (-1, 3)))
+    sin_t = np.sqrt(np.maximum(0.0, 1.0 - cos_t**2))
+    out = cos_t[:, None] * axis
+    out += (sin_t * np.cos(phi))[:, None] * frame[:, 0]
+    out += (sin_t * np.sin(phi))[:, None] * frame[:, 1]
+    return out

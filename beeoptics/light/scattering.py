@@ -1,0 +1,111 @@
+"""Surface scattering: which material a ray meets, and its BSDF, evaluated and sampled.
+
+The BSDF is Lambertian with the material's spectral reflectance ρ(λ), plus,
+for a glossy material, a normalised Phong lobe (Lafortune & Willems 1994)
+of spectrally flat albedo k_s about the mirror direction. Sampling picks the
+diffuse or the glossy lobe in proportion to their albedos (the diffuse
+albedo taken as ρ's mean over the grid), then a cosine-weighted direction or
+one from the Phong lobe's cos^n distribution.
+
+The diffuse lobe's spectrum is not multiplied in here: a path carries the
+materials it scattered from as a key (see :mod:`beeoptics.light.integrator`),
+so its diffuse factors here are the flat 1/π and, once sampled, 1 over the
+lobe's probability.
+
+References
+----------
+Lafortune EP, Willems YD (1994) Using the modified Phong reflectance model
+for physically based rendering. Report CW197, KU Leuven.
+"""
+
+import numpy as np
+
+from beeoptics.light.sampler import around
+
+
+class Surfaces:
+    """The material of every face (or texel) of a scene, and each material's scattering parameters.
+
+    Attributes
+    ----------
+    specular, exponent : ndarray (materials,)
+        The glossy lobe's albedo k_s and Phong exponent n.
+    mean_rho, max_rho : ndarray (materials,)
+        The diffuse reflectance's mean and maximum over the grid.
+    """
+
+    def __init__(self, scene):
+        sizes = [len(o.faces) for o in scene.objects]
+        self._offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        self._face_material = np.concatenate(
+            [o.face_material if o.face_material is not None else np.full(len(o.faces), -1, np.int32)
+             for o in scene.objects] + [np.zeros(0, np.int32)])
+        self._textured = [i for i, o in enumerate(scene.objects) if o.texture is not None]
+        self._objects = scene.objects
+        self.specular = scene.specular
+        self.exponent = scene.exponent
+        self.mean_rho = scene.reflectance.mean(axis=1)
+        self.max_rho = scene.reflectance.max(axis=1)
+
+    def material(self, geometry, primitive, bary):
+        """Material index of each hit: its face's, or its texel's on a textured object."""
+        m = self._face_material[self._offset[geometry] + primitive].astype(np.int64)
+        for i in self._textured:
+            hit = np.flatnonzero(geometry == i)
+            if hit.size == 0:
+                continue
+            o = self._objects[i]
+            uv = o.uv[primitive[hit]]
+            b = bary[hit]
+            st = (1.0 - b[:, :1] - b[:, 1:]) * uv[:, 0] + b[:, :1] * uv[:, 1] + b[:, 1:] * uv[:, 2]
+            h, w = o.texture.shape
+            col = np.floor(st[:, 0] * w).astype(np.int64) % w
+            row = np.floor((1.0 - st[:, 1]) * h).astype(np.int64) % h
+            m[hit] = o.texture[row, col]
+        return m
+
+
+def lambert(weight):
+    """A weight times the Lambertian BRDF's flat factor 1/π (its ρ(λ) is carried by the path's key)."""
+    return weight / np.pi
+
+
+def phong(weight, specular, exponent, mirror, to_light):
+    """A weight times the normalised Phong lobe, k_s (n + 2)/(2π) cos^n α, α off the mirror direction."""
+    lobe = np.maximum((mirror * to_light).sum(1), 0.0) ** exponent
+    return weight * specular * (exponent + 2.0) / (2.0 * np.pi) * lobe
+
+
+def scatter(normal, mirror, specular, exponent, mean_rho, u_lobe, u_cos, u_phi):
+    """Sample each path's next direction from its BSDF.
+
+    Parameters
+    ----------
+    normal, mirror : ndarray (n, 3)
+        The shading normal, facing the incoming ray, and the mirror direction.
+    specular, exponent, mean_rho : ndarray (n,)
+        The hit materials' glossy albedo and exponent, and mean diffuse reflectance.
+    u_lobe, u_cos, u_phi : ndarray (n,)
+        Uniform random numbers.
+
+    Returns
+    -------
+    direction : ndarray (n, 3)
+    factor : ndarray (n,)
+        The flat part of BSDF × cosine / probability; zero for a black
+        material or a direction below the surface.
+    glossy : ndarray of bool (n,)
+        Whether the glossy lobe was sampled (else the diffuse one, whose
+        reflectance the path's key records).
+    """
+    albedo = mean_rho + specular
+    p_glossy = np.divide(specular, albedo, out=np.zeros_like(specular), where=albedo > 0)
+    glossy = u_lobe < p_glossy
+    cos_t = np.where(glossy, u_cos ** (1.0 / (exponent + 1.0)), np.sqrt(1.0 - u_cos))
+    direction = around(np.where(glossy[:, None], mirror, normal), cos_t, 2 * np.pi * u_phi)
+    cos_n = (normal * direction).sum(1)
+    factor = np.where(glossy, specular * (exponent + 2.0) / (exponent + 1.0) * np.maximum(cos_n, 0.0)
+                      / np.maximum(p_glossy, 1e-300),
+                      1.0 / np.maximum(1.0 - p_glossy, 1e-300))
+    factor[(albedo <= 0.0) | (cos_n <= 0.0)] = 0.0
+    return direction, factor, glossy

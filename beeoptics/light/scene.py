@@ -1,0 +1,220 @@
+"""Scenes: geometry, spectral materials and daylight, read from ``scenes/<name>/scene.yaml``.
+
+The format is described in ``beeoptics/io/schemas/scene.schema.yaml`` and in
+the README. In short: metres, world +z up, azimuths from +x towards +y;
+``light`` sets the sky (``preetham``, ``uniform`` or ``none``) and the sun
+(elevation, azimuth, turbidity); ``eye`` places the bee's head (position,
+heading, pitch); ``camera`` a pinhole for the human view; ``materials``
+name spectral materials (:mod:`beeoptics.light.materials`); ``objects`` are
+meshes (read with pymeshlab: PLY, OBJ, glTF, STL, OFF) or primitives, each
+with one material, or a pattern: face colours mapped to materials by a
+``palette`` (per face), or a texture image whose colours a palette maps
+to materials (per texel).
+"""
+
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import open3d as o3d
+from scipy.spatial.transform import Rotation
+
+from beeoptics.io.errors import InputError
+from beeoptics.io.imagefile import read_image
+from beeoptics.io.meshfile import read_mesh
+from beeoptics.io.validation import load_yaml, validate
+from beeoptics.light.materials import material, spectrum
+from beeoptics.light.sky import Sky, luminance, preetham_sky, uniform_sky
+from beeoptics.light.sun import Sun, sun_disc
+from beeoptics.raycasting import embree_scene
+
+
+class SceneObject(NamedTuple):
+    """A triangle mesh of the scene, in metres, and where its faces get their materials.
+
+    ``face_material`` (m,) holds each face's material index, or is None for
+    a textured object, whose ``texture`` (h, w) holds each texel's material
+    index and ``uv`` (m, 3, 2) each face's corner texture coordinates.
+    """
+
+    name: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    face_material: np.ndarray
+    texture: np.ndarray
+    uv: np.ndarray
+
+
+class Scene(NamedTuple):
+    """A loaded scene: geometry, materials on the spectral grid, the light, the bee and the camera.
+
+    ``reflectance`` and ``emission`` are (materials, wavelengths); ``specular``
+    and ``exponent`` (materials,) the glossy lobe of each material; ``sky``
+    and ``sun`` are None where the scene has none. ``eye_rotation`` has the
+    head's axes as columns, in the world frame; ``extent`` is the diagonal of
+    the scene's bounding box, m.
+    """
+
+    name: str
+    path: Path
+    objects: list
+    material_names: list
+    reflectance: np.ndarray
+    emission: np.ndarray
+    specular: np.ndarray
+    exponent: np.ndarray
+    sky: Sky | None
+    sun: Sun | None
+    eye_position: np.ndarray
+    eye_rotation: np.ndarray
+    camera: dict
+    extent: float
+
+
+def _hex(colours):
+    rgb = np.rint(np.asarray(colours) * 255.0).astype(int)
+    return np.array([f"#{r:02x}{g:02x}{b:02x}" for r, g, b in rgb])
+
+
+def _palette_ids(colours, palette, names, source, field):
+    lookup = {k.lower(): v for k, v in palette.items()}
+    for m in lookup.values():
+        if m not in names:
+            raise InputError(source, field, f"unknown material {m!r}")
+    hexes = _hex(colours)
+    missing = sorted(set(hexes) - set(lookup))
+    if missing:
+        raise InputError(source, field, f"colours {missing[:5]} are not in the palette")
+    table = {h: names.index(lookup[h]) for h in set(hexes)}
+    return np.array([table[h] for h in hexes], dtype=np.int32)
+
+
+def _primitive(spec):
+    (kind, args), = spec.items()
+    if kind == "plane":
+        h = args["size_m"] / 2.0
+        v = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]])
+        return v, np.array([[0, 1, 2], [0, 2, 3]])
+    mesh = o3d.geometry.TriangleMesh.create_sphere(args["radius_m"], resolution=4 * 2 ** args["subdivisions"])
+    return np.asarray(mesh.vertices), np.asarray(mesh.triangles)
+
+
+def _object(spec, base, names, source, index):
+    field = f"objects.{index}"
+    if "mesh" in spec:
+        v, f, colours, uv = read_mesh(base / spec["mesh"], patterns=True, source=source, field=f"{field}.mesh")
+    else:
+        (v, f), colours, uv = _primitive(spec["primitive"]), None, None
+    rot = Rotation.from_euler("xyz", spec["rotate_deg"], degrees=True).as_matrix()
+    v = (spec["scale"] * v) @ rot.T + np.asarray(spec["translate_m"])
+    name = spec.get("name", f"object {index}")
+    if "material" in spec:
+        if spec["material"] not in names:
+            raise InputError(source, f"{field}.material", f"unknown material {spec['material']!r}")
+        return SceneObject(name, v, f, np.full(len(f), names.index(spec["material"]), np.int32), None, None)
+    if "palette" in spec:
+        if colours is None:
+            raise InputError(base / spec.get("mesh", ""), "faces",
+                             "a palette needs one colour per face (OBJ: a material per face; "
+                             "glTF: a material per primitive)")
+        return SceneObject(name, v, f, _palette_ids(colours, spec["palette"], names, source, f"{field}.palette"),
+                           None, None)
+    if "texture" in spec:
+        if uv is None:
+            raise InputError(base / spec.get("mesh", ""), "faces", "a texture needs texture coordinates in the mesh")
+        pixels = read_image(base / spec["texture"]["image"])[0][:, :, :3]
+        ids = _palette_ids(pixels.reshape(-1, 3), spec["texture"]["palette"], names, source,
+                           f"{field}.texture.palette")
+        return SceneObject(name, v, f, None, ids.reshape(pixels.shape[:2]), uv)
+    raise InputError(source, field, "an object needs a material, a palette or a texture")
+
+
+def _bee_camera(position, head):
+    """The human view a scene gets by default: from the bee's head, looking where it looks."""
+    at = np.asarray(position, float) + head[:, 0]
+    return {"position_m": list(position), "look_at_m": at.tolist(), "vertical_fov_deg": 60.0,
+            "width_px": 320, "height_px": 240}
+
+
+def load_scene(path, wavelengths, light=None):
+    """Read and check a scene file.
+
+    Parameters
+    ----------
+    path : str or Path
+    wavelengths : ndarray
+        The spectral grid, nm.
+    light : dict, optional
+        Overrides for the scene's ``light`` section (for sweeps).
+    """
+    path = Path(path)
+    data = load_yaml(path)
+    if isinstance(data, dict) and light:
+        data.setdefault("light", {}).update(light)
+    data = validate(data, "scene", path)
+    base = path.parent
+    wl = np.asarray(wavelengths, float)
+    names = list(data["materials"])
+    mats = [material(data["materials"][n], wl, base, path, n) for n in names]
+    objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])]
+
+    lt = data["light"]
+    sky = None
+    if lt["sky"] == "uniform":
+        if "radiance" not in lt:
+            raise InputError(path, "light.radiance", "a uniform sky needs a radiance spectrum")
+        radiance = spectrum(lt["radiance"], wl, base, path, "light.radiance")
+        if not np.isfinite(radiance).all() or radiance.min() < 0.0:
+            raise InputError(path, "light.radiance", "a sky's radiance must be finite and non-negative")
+        if "luminance_cd_m2" in lt:
+            radiance = radiance * lt["luminance_cd_m2"] / luminance(wl, radiance)
+        sky = uniform_sky(radiance, lt["hemisphere"])
+    if lt["sky"] == "preetham" and lt["sun_elevation_deg"] <= 0.0:
+        raise InputError(path, "light.sun_elevation_deg",
+                         "the Preetham sky is a daylight model: it needs the sun above the horizon")
+    sun = None
+    if lt["sun"] or lt["sky"] == "preetham":
+        sun = sun_disc(wl, lt["sun_elevation_deg"], lt["sun_azimuth_deg"], lt["turbidity"])
+    if lt["sky"] == "preetham":
+        sky = preetham_sky(wl, sun.direction, lt["turbidity"])
+    if not lt["sun"]:
+        sun = None
+    # An emitting material lights the scene only if some object is made of it.
+    used = set()
+    for o in objects:
+        for ids in (o.face_material, o.texture):
+            if ids is not None:
+                used.update(np.unique(ids).tolist())
+    emitting = any(mats[i]["emission"].max() > 0 for i in used)
+    lit = (sky is not None and sky.basis.max() > 0) or (sun is not None and sun.radiance.max() > 0)
+    if not (lit or emitting):
+        raise InputError(path, "light", "the scene has no light: no sky, no sun above the horizon, "
+                         "no object of an emitting material")
+
+    e = data["eye"]
+    head = (Rotation.from_euler("z", e["heading_deg"], degrees=True)
+            * Rotation.from_euler("y", -e["pitch_deg"], degrees=True)).as_matrix()
+    every = np.vstack([o.vertices for o in objects] + [np.zeros((1, 3))])
+    n_wl = len(wl)
+    return Scene(
+        name=data["name"], path=path, objects=objects, material_names=names,
+        reflectance=np.array([m["reflectance"] for m in mats]).reshape(-1, n_wl),
+        emission=np.array([m["emission"] for m in mats]).reshape(-1, n_wl),
+        specular=np.array([m["specular"] for m in mats]),
+        exponent=np.array([m["exponent"] for m in mats]),
+        sky=sky, sun=sun,
+        eye_position=np.asarray(e["position_m"], float), eye_rotation=head,
+        camera=data.get("camera") or _bee_camera(data["eye"]["position_m"], head),
+        extent=float(np.linalg.norm(np.ptp(every, axis=0))),
+    )
+
+
+def raycasting_scene(scene):
+    """Open3D's Embree scene for the scene's objects; geometry ids follow their order."""
+    return embree_scene((o.vertices, o.faces) for o in scene.objects)
+
+
+def receptors_in_world(scene, positions_mm, axes):
+    """Receptor positions (m) and axes in the scene, from the head frame (mm)."""
+    r = scene.eye_rotation
+    return positions_mm * 1e-3 @ r.T + scene.eye_position, axes @ r.T

@@ -1,0 +1,106 @@
+"""The sensors: receptor acceptance cones and the pinhole camera of the human view.
+
+A sensor turns into bundles of rays, one bundle per receptor or pixel,
+each stratified by the sampler's shifted Halton set, which the integrator
+traces (:func:`beeoptics.light.integrator.trace_paths`) and averages.
+
+Receptor cones. Each receptor accepts light from around its axis with
+Snyder's Gaussian angular sensitivity A(θ) (:mod:`beeoptics.eye.optics`).
+Directions are drawn from the two-dimensional Gaussian: in the tangent
+plane at the axis the angle off-axis has a Rayleigh distribution, and a
+weight sin θ/θ makes the density exact on the sphere. Drawing a
+one-dimensional normal angle with a uniform azimuth instead puts too many
+samples near the axis and narrows the cone.
+
+The pinhole camera jitters its rays over each pixel; the human and the bee
+images of a scene then differ only in the eye.
+"""
+
+import numpy as np
+
+from beeoptics.eye.optics import FOUR_LN2
+from beeoptics.light.sampler import shifted_halton, tangent_frames
+
+#: Random dimensions of a receptor's cone shift, apart from those its paths use.
+CONE_DIMENSIONS = (250, 251)
+#: Random dimensions of a pixel's sub-pixel shift, apart from those of receptor cones.
+PIXEL_DIMENSIONS = (252, 253)
+
+
+def cone_samples(axes, delta_rho_deg, samples, seed, first=0):
+    """Directions importance-sampled from each receptor's Gaussian acceptance cone.
+
+    Parameters
+    ----------
+    axes : ndarray, shape (n, 3)
+        Unit receptor axes.
+    delta_rho_deg : array_like, shape (n,) or scalar
+        Acceptance angles (full width at half maximum), degrees.
+    samples : int
+        Directions per receptor.
+    seed : int
+    first : int
+        Index of the first of these receptors in the whole eye, so that a
+        receptor draws the same directions however the eye is split up.
+
+    Returns
+    -------
+    directions : ndarray, shape (n, samples, 3)
+    weights : ndarray, shape (n, samples)
+        sin θ/θ, which turns the tangent-plane density into the density on
+        the sphere; a receptor's response is the weighted mean radiance.
+    """
+    if int(samples) != samples or samples < 1:
+        raise ValueError(f"cone_samples: samples must be a positive whole number, not {samples!r}")
+    axes = np.asarray(axes, float)
+    n = len(axes)
+    u = shifted_halton(samples, seed, np.arange(first, first + n), CONE_DIMENSIONS)
+    sigma = np.radians(np.broadcast_to(delta_rho_deg, (n,))) / np.sqrt(2.0 * FOUR_LN2)
+    theta = sigma[:, None] * np.sqrt(-2.0 * np.log1p(-u[..., 0]))
+    phi = 2.0 * np.pi * u[..., 1]
+    frame = tangent_frames(axes)
+    sin_t = np.sin(theta)
+    directions = (
+        np.cos(theta)[..., None] * axes[:, None]
+        + (sin_t * np.cos(phi))[..., None] * frame[:, None, 0]
+        + (sin_t * np.sin(phi))[..., None] * frame[:, None, 1]
+    )
+    weights = np.where(theta > 0, sin_t / np.where(theta > 0, theta, 1.0), 1.0)
+    return directions, weights
+
+
+def pinhole_rays(camera, samples, seed):
+    """Jittered rays through every pixel of a pinhole camera.
+
+    Parameters
+    ----------
+    camera : dict
+        ``position_m``, ``look_at_m``, ``vertical_fov_deg``, ``width_px``,
+        ``height_px``; world +z is up.
+    samples : int
+        Rays per pixel.
+    seed : int
+
+    Returns
+    -------
+    origin : ndarray, shape (3,)
+    directions : ndarray, shape (h·w, samples, 3)
+        Unit directions, pixels in row-major order from the top left.
+    """
+    w, h = camera["width_px"], camera["height_px"]
+    eye = np.asarray(camera["position_m"], float)
+    forward = np.asarray(camera["look_at_m"], float) - eye
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    half_h = np.tan(np.radians(camera["vertical_fov_deg"]) / 2.0)
+    half_w = half_h * w / h
+    ids = np.arange(w * h)
+    u = shifted_halton(samples, seed, ids, PIXEL_DIMENSIONS)
+    col = (ids % w)[:, None] + u[..., 0]
+    row = (ids // w)[:, None] + u[..., 1]
+    sx = (2.0 * col / w - 1.0) * half_w
+    sy = (1.0 - 2.0 * row / h) * half_h
+    d = forward + sx[..., None] * right + sy[..., None] * up
+    return eye, d / np.linalg.norm(d, axis=-1, keepdims=True)

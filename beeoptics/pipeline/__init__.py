@@ -1,0 +1,14 @@
+"""The pipeline: one function per stage, from input files to artifacts, which the Snakemake rules
+(``workflow/rules/<stage>.smk``) and the command-line tool call. Each reads its inputs, calls the
+library and writes ``outputs``, a mapping of output names to paths, atomically.
+"""
+
+from beeoptics._exports import exports
+
+__all__, __getattr__ = exports(__name__, {
+    "eyes": ("acuity_table", "build_facets", "eye_figures", "remesh_eye"),
+    "trace": ("gather_responses", "human_view", "trace_part"),
+    "images": ("colour_figures", "retinal_images", "sensitivity_figure", "visual_field_maps"),
+    "sweeps": ("sweep_summary", "variant_light", "variant_trace", "variants", "with_delta_rho"),
+    "logs": ("logging_to",),
+})

@@ -1,0 +1,164 @@
+"""The light stages: trace the receptors through a scene in shares, gather their responses, render the human view.
+
+Each stage reads its inputs, calls the library and writes ``outputs``, a
+mapping of output names to paths, atomically.
+"""
+
+import time
+
+import numpy as np
+
+from beeoptics.eye.optics import acceptance_solid_angle
+from beeoptics.io.atomic import atomic_path
+from beeoptics.io.errors import InputError
+from beeoptics.io.imagefile import write_exr, write_png
+from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.table import write_table
+from beeoptics.io.validation import check_background
+from beeoptics.light.batching import in_batches
+from beeoptics.light.integrator import trace_paths
+from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
+from beeoptics.light.sensors import cone_samples, pinhole_rays
+from beeoptics.light.sky import horizontal_irradiance
+from beeoptics.pipeline.logs import log
+from beeoptics.spectra import grid
+from beeoptics.vision.adaptation import background_catches
+from beeoptics.vision.catches import quantum_catches
+from beeoptics.vision.colourspace import colour_coordinates
+from beeoptics.vision.human import srgb, tristimulus
+from beeoptics.vision.sensitivity import RECEPTORS, TEMPLATE, overall_sensitivity, sensitivities
+
+#: Percentile of the human view's luminance shown as white.
+HUMAN_WHITE_PERCENTILE = 99.0
+
+
+def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0, parts=1, light=None,
+               progress=None):
+    """Trace the acceptance cones of one share of the receptors through a scene: ``outputs["radiance"]``.
+
+    Receptors are split into ``parts`` contiguous shares, for running on
+    several machines; every receptor draws the same random numbers in any
+    share, so the gathered result is bit-identical to a single part's.
+    Writes the share's receptor ids and spectral radiance (npz); returns the
+    ray counts.
+
+    Parameters
+    ----------
+    spectral : dict
+        The config's ``spectral`` section (the grid, nm).
+    settings : TraceSettings
+    light : dict, optional
+        Overrides of the scene's light section (sweeps).
+    progress : callable, optional
+        Called with (receptors done, receptors in the share).
+    """
+    wl = grid(**spectral)
+    scene = load_scene(scene_file, wl, light)
+    table = read_receptors(receptors_csv)
+    origins, axes = receptors_in_world(scene, table.position, table.axis)
+    drho = table.delta_rho_deg
+    bounds = np.linspace(0, len(origins), parts + 1).round().astype(int)
+    first, last = bounds[part], bounds[part + 1]
+    rs = raycasting_scene(scene)
+    radiance = np.empty((last - first, len(wl)))
+    counts = {"cast": 0, "shadow": 0}
+    start = time.perf_counter()
+
+    def trace(lo, hi):
+        dirs, weights = cone_samples(axes[lo:hi], drho[lo:hi], settings.samples, settings.seed, first=lo)
+        cast = {}
+        return trace_paths(scene, origins[lo:hi], dirs, weights, depth=settings.depth, seed=settings.seed,
+                           first_stream=lo, rs=rs, counts=cast), cast
+
+    for (lo, hi), (result, cast) in in_batches(trace, first, last, settings):
+        radiance[lo - first:hi - first] = result
+        counts = {k: counts[k] + cast[k] for k in counts}
+        if progress is not None:
+            progress(hi - first, last - first)
+    log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
+             counts["shadow"], time.perf_counter() - start)
+    with atomic_path(outputs["radiance"]) as tmp:
+        # Uncompressed: zlib shrinks these spectra by 6 % and took a sixth of the stage's time.
+        np.savez(tmp, id=table.id[first:last], radiance=radiance)
+    return counts
+
+
+def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, background="scene", light=None,
+                     receptor_curves=TEMPLATE):
+    """Catches and colour-space coordinates of every receptor: ``outputs["responses"]`` and ``["irradiance"]``.
+
+    Parameters
+    ----------
+    part_npzs : list of path
+        The shares written by :func:`trace_part`, in order.
+    spectral : dict
+        The config's ``spectral`` section.
+    background : str
+        The adapting background of von Kries adaptation: ``"scene"``, the
+        mean catch over both eyes, or the name of one of the scene's
+        materials, as a Lambertian surface under the scene's sky and sun.
+    light : dict, optional
+        Overrides of the scene's light section, as the trace had them.
+    receptor_curves : str
+        The receptor sensitivities: the template, or a CSV of measured curves
+        (:func:`beeoptics.vision.sensitivity.sensitivities`).
+    """
+    wl = grid(**spectral)
+    table = read_receptors(receptors_csv)
+    parts = [np.load(p) for p in part_npzs]
+    ids = np.concatenate([p["id"] for p in parts])
+    if not np.array_equal(ids, table.id):
+        raise InputError(part_npzs[0], "id", "the traced shares do not cover the receptor table in order")
+    radiance = np.concatenate([p["radiance"] for p in parts])
+    irradiance = radiance * acceptance_solid_angle(table.delta_rho_deg)[:, None]
+    sens = sensitivities(wl, receptor_curves)
+    catches = quantum_catches(irradiance, sens, wl)
+    # Adaptation compares radiances: the acceptance solid angle cancels in every ratio.
+    seen = quantum_catches(radiance, sens, wl)
+    scene = load_scene(scene_file, wl, light)
+    # A white Lambertian surface under the scene's sky and sun: what a named
+    # background reflects, and the photon flux of the spectral locus's lights.
+    white = horizontal_irradiance(scene.sky, scene.sun, len(wl)) / np.pi
+    surface = None
+    if background != "scene":
+        check_background(scene_file, background, scene_file, "materials")
+        surface = scene.reflectance[scene.material_names.index(background)] * white
+    reference = background_catches(seen, sens, wl, surface)
+    if not (reference > 0.0).all():
+        raise InputError(scene_file, "colour.background",
+                         f"the background {background!r} gives no catch in some receptor class; "
+                         "von Kries adaptation needs a background every class sees")
+    overall = overall_sensitivity(wl, sens)
+    brightness = quantum_catches(irradiance, (overall / overall.sum())[:, None], wl)[:, 0]
+    write_table(outputs["responses"], {"id": table.id, "side": table.side,
+                                       **{r: catches[:, k] for k, r in enumerate(RECEPTORS)},
+                                       "brightness": brightness, **colour_coordinates(seen, reference)})
+    with atomic_path(outputs["irradiance"]) as tmp:
+        np.savez(tmp, id=table.id, wavelength_nm=wl, radiance=radiance.astype(np.float32),
+                 irradiance=irradiance.astype(np.float32), background_q=reference, white_radiance=white)
+
+
+def human_view(scene_file, outputs, *, spectral, settings):
+    """What a person sees of a scene through its pinhole camera: ``outputs["png"]`` and ``["exr"]``.
+
+    Traced like the receptors (``settings.samples`` rays per pixel), then
+    mapped through the CIE 1931 observer to sRGB (PNG, the 99th percentile
+    of luminance as white) and written as linear XYZ (EXR, channels ``X``,
+    ``Y``, ``Z``).
+    """
+    wl = grid(**spectral)
+    scene = load_scene(scene_file, wl)
+    origin, dirs = pinhole_rays(scene.camera, settings.samples, settings.seed)
+    rs = raycasting_scene(scene)
+    xyz = np.empty((len(dirs), 3))
+
+    def trace(lo, hi):
+        return trace_paths(scene, np.broadcast_to(origin, (hi - lo, 3)), dirs[lo:hi],
+                           np.ones((hi - lo, settings.samples)), depth=settings.depth, seed=settings.seed,
+                           first_stream=lo, rs=rs)
+
+    for (lo, hi), radiance in in_batches(trace, 0, len(dirs), settings):
+        xyz[lo:hi] = tristimulus(wl, radiance)
+    shape = (scene.camera["height_px"], scene.camera["width_px"], 3)
+    write_png(outputs["png"], srgb(xyz, np.percentile(xyz[:, 1], HUMAN_WHITE_PERCENTILE)).reshape(shape))
+    write_exr(outputs["exr"], xyz.reshape(shape), ("X", "Y", "Z"))

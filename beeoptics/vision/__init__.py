@@ -1,0 +1,18 @@
+"""Vision: the receptors' spectral sensitivities, their catches, adaptation, the bee colour spaces,
+and the human observer to compare with.
+
+Names follow pavo's where pavo has the concept (Maia et al. 2019), so R users recognise them.
+"""
+
+from beeoptics._exports import exports
+
+__all__, __getattr__ = exports(__name__, {
+    "sensitivity": ("LAMBDA_MAX_APIS", "RECEPTORS", "TEMPLATE", "govardovskii_a1", "measured_sensitivities",
+                    "overall_sensitivity", "receptor_sensitivities", "sensitivities"),
+    "catches": ("photon_flux", "quantum_catches"),
+    "adaptation": ("background_catches",),
+    "colourspace": ("colour_coordinates", "coc", "coc_distance", "excitation", "hexagon", "hexagon_polar",
+                    "hexagon_sector", "reflectance_catches", "rnl_distance", "spectral_locus", "triangle",
+                    "von_kries"),
+    "human": ("srgb", "tristimulus"),
+})

@@ -1,0 +1,38 @@
+"""The human observer: CIE 1931 XYZ of spectral radiance, and its sRGB display.
+
+The human view of a scene and the human colours of each receptor's light
+(map2) are computed through the CIE 1931 2° colour-matching functions, as
+colour-science tabulates them, then shown in sRGB.
+
+References
+----------
+CIE 015:2018 Colorimetry, 4th ed. (CIE 1931 standard colorimetric observer).
+IEC 61966-2-1:1999 Multimedia systems and equipment – Colour measurement
+and management – Part 2-1: Default RGB colour space – sRGB.
+"""
+
+import colour
+import numpy as np
+
+#: The CIE 1931 2° standard observer, 360–830 nm.
+CMFS = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+
+
+def tristimulus(wavelengths_nm, radiance):
+    """CIE 1931 XYZ of spectral radiances (..., n_wl), W m⁻² sr⁻¹ (unnormalised, k = 1).
+
+    The colour-matching functions are resampled onto the grid by
+    colour-science; below their first wavelength (360 nm) they are zero,
+    since light there is invisible to people.
+    """
+    wl = np.asarray(wavelengths_nm, float)
+    step = float(wl[1] - wl[0])
+    shape = colour.SpectralShape(wl[0], wl[-1], step)
+    cmfs = CMFS.copy().align(shape, extrapolator_kwargs={"method": "Constant", "left": 0, "right": 0})
+    return np.asarray(radiance) @ cmfs.values * step
+
+
+def srgb(xyz, white_luminance):
+    """Display-encoded sRGB in [0, 1] of XYZ, ``white_luminance`` (Y) mapped to 1."""
+    linear = colour.XYZ_to_sRGB(np.asarray(xyz) / white_luminance, apply_cctf_encoding=False)
+    return colour.cctf_encoding(np.clip(linear, 0.0, 1.0), function="sRGB")

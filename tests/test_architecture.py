@@ -1,0 +1,69 @@
+"""The package's layering: each subpackage imports only what lies before it in the pipeline."""
+
+import ast
+
+import pytest
+
+from conftest import ROOT
+
+PACKAGE = ROOT / "beeoptics"
+#: Modules every stage may use.
+SHARED = {"spectra", "headframe", "raycasting", "_exports"}
+#: What each part of the package may import: eye → light → vision → images, io below all,
+#: pipeline and the command-line tool above all. Vision sees neither scenes nor eyes.
+ALLOWED = {
+    "_exports": set(),
+    "headframe": set(),
+    "raycasting": set(),
+    "io": {"io", "headframe", "_exports"},
+    "spectra": {"io"},
+    "eye": {"eye", "io", *SHARED},
+    "light": {"light", "eye", "io", *SHARED},
+    "vision": {"vision", "io", *SHARED},
+    "images": {"images", "vision", "light", "eye", "io", *SHARED},
+    "pipeline": {"pipeline", "images", "vision", "light", "eye", "io", *SHARED},
+    "cli": {"pipeline", "images", "vision", "light", "eye", "io", *SHARED},
+}
+
+
+def part(module):
+    """The part of the package a dotted module name (below ``beeoptics``) belongs to."""
+    return module.split(".")[0]
+
+
+def imports(path):
+    """The parts of the package a source file imports, with the line of each import."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("beeoptics"):
+            names = [node.module] if node.module != "beeoptics" else [a.name for a in node.names]
+        elif isinstance(node, ast.Import):
+            names = [a.name for a in node.names if a.name.startswith("beeoptics")]
+        else:
+            continue
+        for name in names:
+            below = name.removeprefix("beeoptics").lstrip(".")
+            if below:
+                found.append((part(below), node.lineno))
+    return found
+
+
+def sources():
+    return sorted(p for p in PACKAGE.rglob("*.py"))
+
+
+def test_every_module_belongs_to_a_known_part():
+    for path in sources():
+        rel = path.relative_to(PACKAGE).with_suffix("")
+        if rel.parts != ("__init__",):
+            assert part(".".join(rel.parts)) in ALLOWED, rel
+
+
+@pytest.mark.parametrize("path", sources(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_imports_point_down_the_pipeline(path):
+    rel = path.relative_to(PACKAGE).with_suffix("")
+    if rel.parts == ("__init__",):
+        return
+    mine = part(".".join(rel.parts))
+    for other, line in imports(path):
+        assert other in ALLOWED[mine], f"{path.relative_to(ROOT)}:{line}: {mine} imports {other}"
