@@ -3,7 +3,9 @@
 Options the workflow's config also has default to ``beeoptics/io/schemas/config.schema.yaml``
 and are checked against it, so a one-off run equals a workflow run with the default
 config. Bad input ends a run with one line naming the file and the field, exit status
-2, and the output folder as it was.
+2, and the output folder as it was. The stages, and the libraries they need (Open3D,
+pymeshlab, libigl, colour-science), are imported by the command that runs them, so that
+``--help`` and ``--version`` answer at once.
 """
 
 import argparse
@@ -18,20 +20,12 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from beeoptics.eye.description import load_eye, load_eye_mesh
-from beeoptics.eye.optics import AcceptanceModel
-from beeoptics.eye.receptors import measure_spacing
-from beeoptics.headframe import RIGHT, SIDES
-from beeoptics.io import interchange
+from beeoptics import __version__
+from beeoptics.headframe import SIDES
 from beeoptics.io.errors import InputError
-from beeoptics.io.receptortable import read_receptors, write_receptors
+from beeoptics.io.receptortable import MEASURES, read_receptors, write_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
-from beeoptics.light.batching import TraceSettings
-from beeoptics.light.scene import load_scene
-from beeoptics.pipeline.eyes import FACET_OUTPUTS, build_facets, remesh_eye
-from beeoptics.pipeline.images import IMAGES, retinal_images
-from beeoptics.pipeline.trace import gather_responses, trace_part
-from beeoptics.spectra import grid
+from beeoptics.pipeline.outputs import FACET_OUTPUTS, IMAGES
 
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
 SETTINGS = {
@@ -85,17 +79,28 @@ def settings(args):
         raise InputError("command line", option, str(e).removeprefix(f"{e.path}: {e.field}: ")) from None
 
 
+#: Scratch folders of a run in its output folder: ``.partial-<pid>-<random>``.
+SCRATCH_PREFIX = ".partial-"
+
+
 @contextmanager
 def staged(outdir, names):
     """A scratch folder inside ``outdir`` whose files ``names`` move into it only if the block succeeds.
 
     Each stage writes its files atomically, but a run failing half-way would
-    still leave some files beside older ones; this leaves ``outdir`` as it was.
+    still leave some files beside older ones; this leaves ``outdir`` as it
+    was. A run killed outright (SIGKILL, a lost node) cannot clean up after
+    itself: the next command writing to the same folder removes the scratch
+    folders whose process is gone.
     """
     outdir = Path(outdir)
     created = not outdir.exists()
     outdir.mkdir(parents=True, exist_ok=True)
-    scratch = Path(tempfile.mkdtemp(prefix=".partial-", dir=outdir))
+    for old in outdir.glob(f"{SCRATCH_PREFIX}*"):
+        pid = old.name.removeprefix(SCRATCH_PREFIX).split("-")[0]
+        if pid.isdigit() and not _running(int(pid)):
+            shutil.rmtree(old, ignore_errors=True)
+    scratch = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-", dir=outdir))
     try:
         yield scratch
         for name in names:
@@ -106,6 +111,17 @@ def staged(outdir, names):
             outdir.rmdir()
 
 
+def _running(pid):
+    """Whether a process of this id is alive (or belongs to another user)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
 def _bar(args, desc, unit):
     # The delay keeps quick runs, and input refused before the work starts, free of bars.
     return tqdm(desc=desc, unit=unit, delay=0.5, disable=args.quiet, file=sys.stderr, dynamic_ncols=True)
@@ -113,6 +129,10 @@ def _bar(args, desc, unit):
 
 def build_eye(args):
     """Remesh an eye, place and relax its facets, and describe every receptor of both eyes."""
+    from beeoptics.eye.optics import AcceptanceModel
+    from beeoptics.io import interchange
+    from beeoptics.pipeline.eyes import build_facets, remesh_eye
+
     eye = settings(args)["eye"]
     names = ["remeshed.ply", *FACET_OUTPUTS.values()] + ["receptors.ply"] * args.ply
     with staged(args.output, names) as tmp:
@@ -138,6 +158,11 @@ def render(args):
     Receptors without an eye file (imported from a CompoundRay eye, say) get
     no retinal images, which need the eye's placement on the head.
     """
+    from beeoptics.eye.description import load_eye
+    from beeoptics.light.batching import TraceSettings
+    from beeoptics.pipeline import images
+    from beeoptics.pipeline.trace import gather_responses, trace_part
+
     config = settings(args)
     spectral, background = config["spectral"], config["colour"]["background"]
     # Refused now rather than after a trace of minutes.
@@ -156,8 +181,9 @@ def render(args):
                          {"responses": tmp / "responses.csv", "irradiance": tmp / "irradiance.npz"},
                          spectral=spectral, background=background, receptor_curves=config["colour"]["sensitivities"])
         if args.eye is not None:
-            retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
-                           {key: tmp / name for key, name in IMAGES.items()}, width_px=config["images"]["width_px"])
+            images.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+                                  {key: tmp / name for key, name in IMAGES.items()},
+                                  width_px=config["images"]["width_px"])
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
@@ -176,13 +202,16 @@ def read_receptor_file(path, args):
     them, Δφ is measured from neighbouring axes, and the facet diameter from
     neighbouring positions when ``--facet-diameter-um spacing`` asks for it.
     """
+    from beeoptics.eye.receptors import measure_spacing
+    from beeoptics.io import interchange
+
     kind = _format(path)
     if kind == ".csv":
         return read_receptors(path)
     if kind == ".ply":
         return interchange.read_receptor_ply(path)
     spacing = args.facet_diameter_um == "spacing"
-    table = interchange.read_compoundray_eye(path, side=args.side or RIGHT, units=args.units, frame=args.frame,
+    table = interchange.read_compoundray_eye(path, side=args.side or "auto", units=args.units, frame=args.frame,
                                              angle_convention=args.acceptance, delta_phi_deg=args.delta_phi_deg,
                                              facet_diameter_um=None if spacing else args.facet_diameter_um)
     if args.delta_phi_deg is None or spacing:
@@ -192,6 +221,8 @@ def read_receptor_file(path, args):
 
 def convert(args):
     """Convert a receptor table to another format, each chosen by the file's extension."""
+    from beeoptics.io import interchange
+
     kind = _format(args.output)
     table = read_receptor_file(args.input, args)
     side = None if kind != ".eye" or args.side == "auto" else args.side
@@ -225,6 +256,10 @@ def _stats(values):
 
 def info(args):
     """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye or .ply)."""
+    from beeoptics.eye.description import load_eye, load_eye_mesh
+    from beeoptics.light.scene import load_scene
+    from beeoptics.spectra import grid
+
     path = Path(args.path)
     if path.suffix.lower() not in (".yaml", ".yml"):
         t = read_receptor_file(path, args)
@@ -302,11 +337,13 @@ def _count(text):
 def parser():
     """The parser of every subcommand; the config settings' defaults come from the schema."""
     top = _Parser(prog="beeoptics", description=__doc__.split("\n\n")[0].replace("``", ""))
+    top.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = top.add_subparsers(dest="command", required=True, metavar="COMMAND")
     eyefile = _Parser(add_help=False)
     g = eyefile.add_argument_group("CompoundRay .eye conventions (see beeoptics.io.interchange)")
-    g.add_argument("--units", type=_positive_or("m", "mm"), default="m",
-                   help="lengths in the .eye file: m (glTF's metres), mm, or file units per mm (default: %(default)s)")
+    g.add_argument("--units", type=_positive_or("m", "mm"), default="mm",
+                   help="lengths in the .eye file: mm (CompoundRay's eye specification), m, or file units per mm "
+                        "(default: %(default)s)")
     g.add_argument("--frame", choices=["camera", "head"], default="camera",
                    help="camera: x right, y up, z forward of a camera looking where the bee faces (the head "
                         "frame's -y, z, x); head: head-frame coordinates unchanged (default: %(default)s)")
@@ -314,8 +351,9 @@ def parser():
                    help="the file's acceptance angle, radians, is Δρ (fwhm, CompoundRay's definition) or √2·Δρ "
                         "(variance: the same angular blur as the receptor's) (default: %(default)s)")
     g.add_argument("--side", choices=[*SIDES, "auto"],
-                   help="reading a .eye: the eye it holds, or auto to split it by the sign of head-frame y "
-                        "(default: right); writing a .eye: only that eye's receptors (default, or auto: all)")
+                   help="reading a .eye: the eye it holds, or auto, the default, to find each receptor's eye by "
+                        "the sign of its head-frame y; writing a .eye: only that eye's receptors (default, or "
+                        "auto: all)")
     g.add_argument("--delta-phi-deg", type=float,
                    help="reading a .eye: Δφ of every receptor, degrees (default: measured from neighbouring axes)")
     g.add_argument("--facet-diameter-um", type=_positive_or("spacing"), help="reading a .eye: facet diameter of "
@@ -354,7 +392,7 @@ def parser():
     p.add_argument("output", metavar="OUT", help="the file to write: .csv, .eye or .ply")
     p.add_argument("--focal-offset-mm", type=float,
                    help="writing a .eye: focal point offset of every receptor, mm (default: the input's, else 0)")
-    p.add_argument("--quality", choices=[*interchange.PLY_FLOATS, "none"], default="delta_phi_deg",
+    p.add_argument("--quality", choices=[*MEASURES, "none"], default="delta_phi_deg",
                    help="writing a .ply: the column MeshLab shows as vertex quality (default: %(default)s)")
     p.set_defaults(run=convert)
     p = sub.add_parser("info", parents=[eyefile], help="describe an eye, a scene or receptors",

@@ -22,6 +22,10 @@ with a 280° field of view catadioptric imaging system. Bioinspir Biomim
 
 import numpy as np
 
+#: The sizes bee eyes come in, mm: even the smallest bees' eyes are a few tenths of a
+#: millimetre long, and the largest, the drone honey bee's, a few millimetres (Streinzer et
+#: al. 2013). An eye outside this range is in other units (metres, say).
+EYE_SIZE_MM = (0.1, 20.0)
 #: The eyes, right first: the order of receptor tables, and the side codes of PLY files.
 RIGHT, LEFT = "right", "left"
 SIDES = (RIGHT, LEFT)

@@ -98,19 +98,24 @@ def read_pavo_csv(path, onto=None):
     """
     table = read_table(path)
     names = list(table)
+    table = read_table(path, numeric=names)
     if len(names) < 2:
         raise InputError(path, "", "expected a wavelength column and at least one spectrum")
     wl_name, samples = names[0], names[1:]
-    wl = _numeric(table[wl_name], path, wl_name)
+    wl = table[wl_name].astype(float)
     if len(wl) < 2:
         raise InputError(path, wl_name, f"{len(wl)} wavelength(s); a spectrum needs at least two")
+    if (np.diff(wl) == 0).any():
+        raise InputError(path, wl_name, f"duplicate {wl[1:][np.diff(wl) == 0][0]:g} nm")
     if not np.isfinite(wl).all() or np.any(np.diff(wl) <= 0):
         raise InputError(path, wl_name, "the first column must hold increasing wavelengths in nm")
-    values = np.column_stack([_numeric(table[s], path, s) for s in samples])
+    values = np.column_stack([table[s].astype(float) for s in samples])
     for j, s in enumerate(samples):
-        bad = ~np.isfinite(values[:, j])
-        if bad.any():
-            raise InputError(path, s, f"holds NaN or infinity (first at {wl[bad][0]:g} nm)")
+        if np.isnan(values[:, j]).any():
+            raise InputError(path, s, f"holds a value that is not a number, empty or NaN, at "
+                             f"{wl[np.isnan(values[:, j])][0]:g} nm")
+        if np.isinf(values[:, j]).any():
+            raise InputError(path, s, f"holds infinity at {wl[np.isinf(values[:, j])][0]:g} nm")
         if (values[:, j] < 0).any():
             k = np.argmin(values[:, j])
             raise InputError(path, s, f"holds negative values (down to {values[k, j]:g} at {wl[k]:g} nm)")
@@ -120,15 +125,6 @@ def read_pavo_csv(path, onto=None):
         values = resample(wl, values, onto, path, samples[0])
         wl = onto
     return samples, wl, values
-
-
-def _numeric(column, path, name):
-    if column.dtype.kind not in "iuf":
-        try:
-            return column.astype(float)
-        except ValueError:
-            raise InputError(path, name, "holds a value that is not a number") from None
-    return column.astype(float)
 
 
 def write_pavo_csv(path, wavelengths, spectra):

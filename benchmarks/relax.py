@@ -17,7 +17,8 @@ import time
 from pathlib import Path
 
 from beeoptics.eye.optics import AcceptanceModel
-from beeoptics.pipeline.eyes import FACET_OUTPUTS, build_facets, remesh_eye
+from beeoptics.pipeline.eyes import build_facets, remesh_eye
+from beeoptics.pipeline.outputs import FACET_OUTPUTS
 
 
 def main():

@@ -57,7 +57,8 @@ def disc_mesh(radius=1.0, edge=0.05):
 def build_eye_files(eye_yaml, outdir):
     """Remesh and build an eye with the default settings, as the workflow does: its output paths."""
     from beeoptics.eye.optics import AcceptanceModel
-    from beeoptics.pipeline.eyes import FACET_OUTPUTS, build_facets, remesh_eye
+    from beeoptics.pipeline.eyes import build_facets, remesh_eye
+    from beeoptics.pipeline.outputs import FACET_OUTPUTS
 
     outdir = Path(outdir)
     outputs = {"remeshed": outdir / "remeshed.ply", **{k: outdir / name for k, name in FACET_OUTPUTS.items()}}

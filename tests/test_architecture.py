@@ -36,7 +36,10 @@ def imports(path):
     found = []
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("beeoptics"):
-            names = [node.module] if node.module != "beeoptics" else [a.name for a in node.names]
+            # From the package itself, only its modules count (not, say, __version__).
+            names = [node.module] if node.module != "beeoptics" else [
+                f"beeoptics.{a.name}" for a in node.names
+                if (PACKAGE / a.name).is_dir() or (PACKAGE / f"{a.name}.py").is_file()]
         elif isinstance(node, ast.Import):
             names = [a.name for a in node.names if a.name.startswith("beeoptics")]
         else:

@@ -1,8 +1,10 @@
 """The command-line tool: every subcommand on the tiny eye and test scenes, its help, and bad input."""
 
 import shutil
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +16,7 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.interchange import read_receptor_ply
 from beeoptics.io.receptortable import COLUMNS, read_receptors
 from beeoptics.io.table import read_table
-from beeoptics.pipeline import images as image_stages
+from beeoptics.pipeline.outputs import IMAGES
 from conftest import ROOT
 
 DATA = ROOT / "tests" / "data"
@@ -88,7 +90,7 @@ def test_build_eye_writes_the_receptor_table(built):
 def test_render_writes_responses_and_images(rendered):
     responses = read_table(rendered / "responses.csv")
     assert len(responses["id"]) == 600 and np.all(responses["G"] > 0)
-    for name in ["irradiance.npz", *image_stages.IMAGES.values()]:
+    for name in ["irradiance.npz", *IMAGES.values()]:
         assert (rendered / name).stat().st_size > 0, name
     assert not list(rendered.glob(".partial-*"))
 
@@ -124,6 +126,20 @@ def test_convert_round_trips_through_compoundray_and_ply(built, tmp_path, capsys
     assert len((tmp_path / "left.eye").read_text().splitlines()) == 300
 
 
+def test_an_eye_goes_to_compoundray_and_back_with_the_default_options(built, tmp_path, capsys):
+    original = read_receptors(built / "receptors.csv")
+    assert call(capsys, "convert", built / "receptors.csv", tmp_path / "q.eye")[0] == 0
+    code, _, err = call(capsys, "convert", tmp_path / "q.eye", tmp_path / "back.csv")
+    assert code == 0, err
+    back = read_receptors(tmp_path / "back.csv")
+    np.testing.assert_array_equal(back.side, original.side)
+    np.testing.assert_allclose(back.position, original.position, atol=1e-8)
+    # Δφ measured again on the sphere of axes, as the lattice measured it; a few corner facets
+    # of this coarse eye keep no neighbour there (NaN).
+    assert np.isnan(back.delta_phi_deg).mean() < 0.05
+    assert np.nanmedian(back.delta_phi_deg) == pytest.approx(np.median(original.delta_phi_deg), rel=0.02)
+
+
 def test_info_describes_eyes_scenes_and_receptors(built, tmp_path, capsys):
     code, out, _ = call(capsys, "info", EYE)
     assert code == 0 and "facets per eye, published: 300" in out and "anchor dorsal" in out
@@ -151,14 +167,36 @@ def unknown_material(tmp_path, built):
     return render_args(built / "receptors.csv", scene, tmp_path / "out"), "scene.yaml", "objects.0.material"
 
 
-def nonpositive_delta_rho(tmp_path, built):
+def edited_receptors(tmp_path, built, edits, row=5):
+    """A copy of the built receptor table with cells of one row (receptor ``row - 1``) replaced."""
     table = read_table(built / "receptors.csv")
     lines = (built / "receptors.csv").read_text().splitlines()
-    row = lines[5].split(",")
-    row[list(table).index("delta_rho_deg")] = "0"
-    lines[5] = ",".join(row)
+    cells = lines[row].split(",")
+    for column, value in edits.items():
+        cells[list(table).index(column)] = value
+    lines[row] = ",".join(cells)
     (tmp_path / "receptors.csv").write_text("\n".join(lines) + "\n")
-    return render_args(tmp_path / "receptors.csv", FLOWER, tmp_path / "out"), "receptors.csv", "delta_rho_deg"
+    return tmp_path / "receptors.csv"
+
+
+def nonpositive_delta_rho(tmp_path, built):
+    table = edited_receptors(tmp_path, built, {"delta_rho_deg": "0"})
+    return render_args(table, FLOWER, tmp_path / "out"), "receptors.csv", "delta_rho_deg"
+
+
+def zero_axis(tmp_path, built):
+    table = edited_receptors(tmp_path, built, {"ax": "0", "ay": "0", "az": "0"})
+    return render_args(table, FLOWER, tmp_path / "out"), "receptors.csv", "ax, ay, az"
+
+
+def nan_axis(tmp_path, built):
+    table = edited_receptors(tmp_path, built, {"ay": "nan"})
+    return ["convert", table, tmp_path / "out" / "eye.eye"], "receptors.csv", "ax, ay, az"
+
+
+def infinite_position(tmp_path, built):
+    table = edited_receptors(tmp_path, built, {"x": "inf"})
+    return ["info", table], "receptors.csv", "x, y, z"
 
 
 def zero_samples(tmp_path, built):
@@ -174,14 +212,16 @@ def unknown_format(tmp_path, built):
     return ["convert", built / "receptors.csv", tmp_path / "out" / "eye.txt"], "eye.txt", ""
 
 
-@pytest.mark.parametrize("case", [missing_mesh, unknown_material, nonpositive_delta_rho, zero_samples,
-                                  unknown_background, unknown_format])
+@pytest.mark.parametrize("case", [missing_mesh, unknown_material, nonpositive_delta_rho, zero_axis, nan_axis,
+                                  infinite_position, zero_samples, unknown_background, unknown_format])
 def test_bad_input_is_one_line_naming_file_and_field_and_writes_nothing(case, tmp_path, built, capsys):
     args, file, field = case(tmp_path, built)
     code, out, err = call(capsys, *args)
     assert code == 2
     assert len(err.splitlines()) == 1 and err.startswith("beeoptics: error: "), err
     assert f"{file}: {field}" in err, err
+    if file == "receptors.csv":
+        assert f"{field}: receptor 4: " in err, err
     assert not (tmp_path / "out").exists()
 
 
@@ -191,7 +231,7 @@ def test_the_installed_script_reports_bad_input_without_a_traceback(tmp_path, bu
     result = subprocess.run([str(a) for a in [TOOL, *args]], capture_output=True, text=True)
     assert result.returncode == 2
     assert result.stderr.splitlines() == [
-        f"beeoptics: error: {tmp_path / 'receptors.csv'}: delta_rho_deg: acceptance angles must be positive"]
+        f"beeoptics: error: {tmp_path / 'receptors.csv'}: delta_rho_deg: receptor 4: acceptance angles must be positive and finite"]
     assert not (tmp_path / "out").exists()
 
 
@@ -203,7 +243,7 @@ def test_a_run_failing_late_leaves_the_output_folder_as_it_was(tmp_path, built, 
     def fail(*args, **kwargs):
         raise InputError("eye.yaml", "placement", "refused after the trace")
 
-    monkeypatch.setattr(cli, "retinal_images", fail)
+    monkeypatch.setattr("beeoptics.pipeline.images.retinal_images", fail)
     code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, out))
     assert code == 2 and "refused after the trace" in err
     assert [p.name for p in out.iterdir()] == ["responses.csv"]
@@ -212,14 +252,14 @@ def test_a_run_failing_late_leaves_the_output_folder_as_it_was(tmp_path, built, 
 
 def test_an_eye_from_compoundray_renders_here(tmp_path, capsys):
     # An eye as a micro-CT study would export it for CompoundRay: one line per ommatidium,
-    # position (m) and direction in CompoundRay's camera frame (right, up, forward), the
+    # position (mm) and direction in CompoundRay's camera frame (right, up, forward), the
     # acceptance angle (rad) and a focal offset; a hemispherical eye of 0.5 mm radius.
     k = np.arange(400) + 0.5
     z = 1.0 - k / 400
     phi = np.pi * (1.0 + 5**0.5) * k
     r = np.sqrt(1.0 - z * z)
     axes = np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
-    lines = [" ".join(f"{v:.9g}" for v in (*(5e-4 * a), *a, np.radians(2.6), 0.0)) for a in axes]
+    lines = [" ".join(f"{v:.9g}" for v in (*(0.5 * a), *a, np.radians(2.6), 0.0)) for a in axes]
     (tmp_path / "scanned.eye").write_text("\n".join(lines) + "\n")
     code, _, err = call(capsys, "convert", tmp_path / "scanned.eye", tmp_path / "scanned.csv")
     assert code == 0, err
@@ -229,3 +269,35 @@ def test_an_eye_from_compoundray_renders_here(tmp_path, capsys):
     assert len(resp["UV"]) == 400
     assert all(np.isfinite(resp[c]).all() and (resp[c] > 0).all() for c in ("UV", "B", "G"))
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["irradiance.npz", "responses.csv"]
+
+
+def test_a_killed_render_leaves_nothing_once_the_next_command_runs(built, rendered, tmp_path):
+    out = tmp_path / "out"
+    args = [str(a) for a in [TOOL, "render", built / "receptors.csv", FLOWER, "--eye", EYE, "-o", out,
+                             "--samples", "4096", "--depth", "2", "--step-nm", "20", "--width-px", "32", "--quiet"]]
+    run = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while not list(out.glob(".partial-*")) and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.5)
+    assert run.poll() is None, "the render ended before it could be killed"
+    run.send_signal(signal.SIGKILL)
+    run.wait(30)
+    assert [p.name.startswith(".partial-") for p in out.iterdir()] == [True]
+    code = subprocess.run([str(a) for a in [TOOL, *render_args(built / "receptors.csv", FLOWER, out)]],
+                          capture_output=True, text=True).returncode
+    assert code == 0
+    assert sorted(p.name for p in out.iterdir()) == sorted(p.name for p in rendered.iterdir())
+    for path in rendered.iterdir():
+        assert (out / path.name).read_bytes() == path.read_bytes(), path.name
+
+
+def test_help_and_version_load_none_of_the_heavy_libraries():
+    """--help must answer at once: the stages' libraries are imported by the commands that use them."""
+    code = ("import sys; from beeoptics import cli; cli.parser().format_help(); "
+            "print(' '.join(m for m in ('open3d', 'pymeshlab', 'igl', 'colour', 'matplotlib', 'OpenImageIO') "
+            "if m in sys.modules))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == ""
+    version = subprocess.run([str(TOOL), "--version"], capture_output=True, text=True)
+    assert version.returncode == 0 and version.stdout.strip() == "beeoptics 0.1.0"

@@ -1,12 +1,13 @@
 """Bee colour spaces: geometry, invariants, and pavo's formula chain on pavo's own data."""
 
+import warnings
 from itertools import combinations
 
 import numpy as np
 import pytest
 
 from beeoptics.vision.colourspace import (COC_WEIGHTS, HEXAGON_VERTICES, TRIANGLE_VERTICES, coc, coc_distance,
-                                   excitation, hexagon, hexagon_polar, hexagon_sector, neural_noise,
+                                          colour_coordinates, excitation, hexagon, hexagon_polar, hexagon_sector, neural_noise,
                                    reflectance_catches, rnl_distance, spectral_locus, triangle, von_kries)
 from beeoptics.vision.sensitivity import measured_sensitivities, receptor_sensitivities
 from beeoptics.spectra import read_pavo_csv
@@ -258,3 +259,18 @@ def test_triangle_reproduces_pavos_trispace_on_pavos_data(shared_data):
     s_apis = measured_sensitivities(shared_data / "apis_sensitivity_peitsch1992.csv", wl)
     ours = triangle(reflectance_catches(flowers, np.ones(len(wl)), s_apis, wl))
     np.testing.assert_allclose(ours, expected, atol=1e-6)
+
+
+def test_a_receptor_that_caught_no_light_has_no_colour_and_no_warning():
+    q = np.array([[0.0, 0.0, 0.0], [2.0, 1.0, 0.5]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        columns = colour_coordinates(q, np.ones(3))
+    assert list(columns["lit"]) == [0, 1]
+    for name, values in columns.items():
+        if name != "lit":
+            assert np.isnan(values[0]) and np.isfinite(values[1]), name
+    # A lit receptor's coordinates do not depend on a dark one beside it.
+    alone = colour_coordinates(q[1:], np.ones(3))
+    for k in columns:
+        np.testing.assert_allclose(alone[k][0], columns[k][1], rtol=1e-12, err_msg=k)

@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 import pytest
+from threadpoolctl import threadpool_limits
 
 from beeoptics.eye.description import load_eye
 from beeoptics.headframe import eye_azimuth_elevation
@@ -19,7 +20,9 @@ def built(tmp_path_factory):
     for caste in CASTES:
         d = tmp_path_factory.mktemp(caste)
         eye = ROOT / "eyes" / caste / "eye.yaml"
-        build_eye_files(eye, d)
+        # BLAS on two threads, as on this two-core machine by default.
+        with threadpool_limits(limits=2, user_api="blas"):
+            build_eye_files(eye, d)
         out[caste] = {"quality": json.loads((d / "quality.json").read_text()),
                       "receptors": read_receptors(d / "receptors.csv"), "eye": load_eye(eye), "dir": d}
     return out
@@ -98,3 +101,11 @@ def test_relaxation_snapshots_show_the_lattice_forming(built):
     assert data["snapshots"].shape[1:] == (4752, 3)
     moved = np.linalg.norm(data["snapshots"][-1] - data["snapshots"][0], axis=1)
     assert np.median(moved) > 1e-3  # the grid did move, by micrometres
+
+
+def test_an_eye_builds_to_the_same_bytes_whatever_the_blas_threads(built, tmp_path):
+    """The queen, whose FIRE norms are long enough for OpenBLAS to split them across threads."""
+    with threadpool_limits(limits=1, user_api="blas"):
+        outputs = build_eye_files(ROOT / "eyes" / "queen" / "eye.yaml", tmp_path)
+    for name in ("receptors", "relaxation"):
+        assert outputs[name].read_bytes() == (built["queen"]["dir"] / outputs[name].name).read_bytes(), name

@@ -96,11 +96,12 @@ def test_eye_lines_are_what_compoundray_parses(tmp_path, table):
     assert all(len(line.split(" ")) == 8 for line in lines[:-1])
     first = np.array(lines[0].split(" "), float)
     r = rows(table, "right")
-    # Metres, in the camera frame: (right, up, forward) = (-y, z, x) of the head.
-    np.testing.assert_allclose(first[:3], 1e-3 * np.array([-r["y"][0], r["z"][0], r["x"][0]]), rtol=1e-8)
+    # Millimetres, as CompoundRay's eye specification has them, in the camera frame:
+    # (right, up, forward) = (-y, z, x) of the head.
+    np.testing.assert_allclose(first[:3], np.array([-r["y"][0], r["z"][0], r["x"][0]]), rtol=1e-8)
     np.testing.assert_allclose(first[3:6], [-r["ay"][0], r["az"][0], r["ax"][0]], rtol=1e-8)
     np.testing.assert_allclose(first[6], np.radians(r["delta_rho_deg"][0]), rtol=1e-8)
-    np.testing.assert_allclose(first[7], 2e-4, rtol=1e-8)
+    np.testing.assert_allclose(first[7], 0.2, rtol=1e-8)
     got = read_compoundray_eye(path)
     np.testing.assert_allclose(got.focal_offset_mm, 0.2, rtol=1e-8)
 
@@ -227,6 +228,15 @@ def test_untriangulable_axes_ask_for_delta_phi(tmp_path):
     with pytest.raises(InputError, match="delta_phi"):
         measure_spacing(read_compoundray_eye(path), path)
     assert len(read_compoundray_eye(path, delta_phi_deg=2.0).id) == 3
+
+
+def test_an_eye_in_other_units_than_named_is_refused(tmp_path, table):
+    path = tmp_path / "metres.eye"
+    write_compoundray_eye(path, table, units="m")
+    with pytest.raises(InputError) as e:
+        read_compoundray_eye(path)
+    assert e.value.field == "x, y, z" and "give the file's units" in str(e.value) and str(path) in str(e.value)
+    assert len(read_compoundray_eye(path, units="m").id) == len(table.id)
 
 
 def test_missing_eye_file(tmp_path):

@@ -39,7 +39,7 @@ def test_cone_samples_are_seeded_and_do_not_depend_on_the_batch():
     axes = np.random.default_rng(1).normal(size=(10, 3))
     axes /= np.linalg.norm(axes, axis=1, keepdims=True)
     whole, _ = cone_samples(axes, 2.6, 32, seed=3)
-    part, _ = cone_samples(axes[4:], 2.6, 32, seed=3, first=4)
+    part, _ = cone_samples(axes[4:], 2.6, 32, seed=3, streams=np.arange(4, 10))
     np.testing.assert_array_equal(whole[4:], part)
     other, _ = cone_samples(axes, 2.6, 32, seed=4)
     assert not np.allclose(whole, other)

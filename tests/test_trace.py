@@ -5,7 +5,7 @@ import pytest
 from scipy.optimize import curve_fit
 
 from beeoptics.io.receptortable import ReceptorTable, write_receptors
-from beeoptics.light.batching import TraceSettings
+from beeoptics.light.batching import SAMPLE_BLOCK, TraceSettings, trace_bundles
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.sampler import tangent_frames
 from beeoptics.light.scene import load_scene
@@ -109,21 +109,62 @@ def test_noise_falls_as_one_over_the_square_root_of_the_samples(tmp_path, wavele
     assert spread[16] / spread[256] == pytest.approx(4.0, rel=0.2)
 
 
-def test_a_trace_is_bit_identical_however_it_is_batched_and_threaded(tmp_path):
-    """Batch size and threads change how rays are grouped, never a receptor's result."""
-    n = 1024
-    axes = fan(n, [1.0, 0.0, -0.3], 40, np.random.default_rng(2))
+def traced_fan(tmp_path, n, rng_seed, samples, depth, step_nm, runs):
+    """Radiance of n receptors fanned below the horizon, traced in the meadow once per (batch_rays, threads)."""
+    axes = fan(n, [1.0, 0.0, -0.3], 40, np.random.default_rng(rng_seed))
     table = ReceptorTable(id=np.arange(n), side=np.repeat(["right"], n), position=np.zeros((n, 3)), axis=axes,
                           facet_diameter_um=np.full(n, 20.0), delta_phi_deg=np.full(n, 2.0),
                           delta_rho_deg=np.full(n, 2.6))
     write_receptors(tmp_path / "receptors.csv", table)
     radiance = []
-    for batch_rays, threads in [(1 << 17, 1), (1 << 14, 1), (5000, 2)]:
+    for batch_rays, threads in runs:
         out = tmp_path / f"radiance_{batch_rays}_{threads}.npz"
         trace_part(tmp_path / "receptors.csv", MEADOW, {"radiance": out},
-                   spectral={"start_nm": 300, "end_nm": 700, "step_nm": 5},
-                   settings=TraceSettings(samples=128, depth=3, seed=5, batch_rays=batch_rays, threads=threads))
+                   spectral={"start_nm": 300, "end_nm": 700, "step_nm": step_nm},
+                   settings=TraceSettings(samples, depth, seed=5, batch_rays=batch_rays, threads=threads))
         radiance.append(np.load(out)["radiance"])
     assert radiance[0].max() > 0.0
+    return radiance
+
+
+def test_a_trace_is_bit_identical_however_it_is_batched_and_threaded(tmp_path):
+    """Batch size and threads change how rays are grouped, never a receptor's result."""
+    radiance = traced_fan(tmp_path, 1024, 2, 128, 3, 5, [(1 << 17, 1), (1 << 14, 1), (5000, 2)])
     for other in radiance[1:]:
         np.testing.assert_array_equal(other, radiance[0])
+
+
+def test_bundles_of_any_sample_count_are_traced_in_batches_no_larger_than_asked():
+    """A receptor with more samples than a batch holds is split into blocks, summed in order."""
+    seen = []
+
+    def fake(blocks):
+        seen.append(len(blocks.bundle) * blocks.samples)
+        # Each block's mean and weight follow from its bundle and samples alone.
+        mean = (blocks.bundle * 1000.0 + blocks.first_sample / 7.0)[:, None] * [1.0, 2.0]
+        return mean, np.full(len(blocks.bundle), float(blocks.samples))
+
+    samples = 5000  # four blocks of 1024 and one of 904
+    want = None
+    for batch_rays, threads in [(1024, 1), (3000, 2), (1 << 17, 2)]:
+        seen.clear()
+        got = trace_bundles(fake, 3, 9, TraceSettings(samples, 1, 1, batch_rays, threads), 2)
+        assert max(seen) <= batch_rays and sum(seen) == 6 * samples
+        if want is None:
+            starts = np.arange(0, samples, SAMPLE_BLOCK)
+            counts = np.minimum(SAMPLE_BLOCK, samples - starts)
+            want = np.array([[(b * 1000.0 + starts / 7.0) @ counts / samples] for b in range(3, 9)]) * [1.0, 2.0]
+            np.testing.assert_allclose(got, want, rtol=1e-12)
+            want = got
+        np.testing.assert_array_equal(got, want)
+    # 10⁸ samples a receptor: the first batch is made without listing all the blocks.
+    from beeoptics.light.batching import _batches
+
+    first = next(_batches(0, 600, TraceSettings(10**8, 1, 1, 1024, 1)))
+    assert sum(len(b.bundle) * b.samples for b in first) == 1024
+
+
+def test_a_trace_in_blocks_is_bit_identical_however_it_is_batched_and_threaded(tmp_path):
+    """2,500 samples a receptor: blocks of 1,024, 1,024 and 452, batched two ways."""
+    first, second = traced_fan(tmp_path, 6, 4, 2500, 2, 20, [(1024, 1), (4096, 2)])
+    np.testing.assert_array_equal(first, second)

@@ -3,6 +3,13 @@
 Collins §4.1: the hexagonal grid is projected onto the remeshed eye with the
 count rule, relaxed over the surface to follow the facet-diameter map, and
 each facet becomes a receptor whose axis is the interpolated surface normal.
+
+The relaxation is a long chain of steps, each depending on the last, so a
+difference in the last bit of one sum grows into another lattice. OpenBLAS
+splits long dot products (the norms of FIRE's forces and velocities) across
+its threads, which changes their rounding with the number of threads; the
+eye is therefore built with BLAS on one thread, so that the workflow, the
+command-line tool and any machine build the same eye to the last bit.
 """
 
 import time
@@ -10,6 +17,7 @@ from typing import NamedTuple
 
 import igl
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from beeoptics.eye.facetmap import anchor_vertices, diameter_map
 from beeoptics.eye.lattice import conformal_map, project_grid
@@ -53,6 +61,11 @@ def build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress=
         ``delta_phi_deg`` and ``facet_diameter_um`` (n,) at rest, and
         ``boundary_xy``, the eye's rim in its local xy-plane.
     """
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress)
+
+
+def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress):
     query = MeshQuery(vertices, faces)
     sources = anchor_vertices(normals @ eye.rotation, eye.anchors)
     diameters = diameter_map(vertices, faces, sources, [a["diameter_um"] * 1e-3 for a in eye.anchors],

@@ -14,18 +14,10 @@ import igl
 import numpy as np
 
 from beeoptics.eye.optics import RHABDOM_ACCEPTANCE_DEG
-from beeoptics.headframe import eye_rotation
+from beeoptics.headframe import EYE_SIZE_MM, eye_rotation
 from beeoptics.io.errors import InputError
 from beeoptics.io.meshfile import read_mesh
 from beeoptics.io.validation import load_yaml, validate
-
-#: Longest eye accepted, in mm: the largest bee eyes are a few millimetres long
-#: (drone honey bees; Streinzer et al. 2013), so anything near a metre is in other units.
-MAX_EYE_SIZE_MM = 20.0
-#: Shortest eye accepted, in mm: even the smallest bees' eyes are a few tenths of a
-#: millimetre long, so a bee eye of a few thousandths is a mesh in metres.
-MIN_EYE_SIZE_MM = 0.1
-
 
 class EyeDescription(NamedTuple):
     """One eye class, as its ``eye.yaml`` describes it.
@@ -94,12 +86,12 @@ def load_eye_mesh(eye):
             f"vertices, the first at {vertices[np.argmax(pinched)].round(6).tolist()}); an eye is one sheet",
         )
     size = np.ptp(vertices, axis=0).max()
-    if not MIN_EYE_SIZE_MM <= size <= MAX_EYE_SIZE_MM:
+    if not EYE_SIZE_MM[0] <= size <= EYE_SIZE_MM[1]:
         raise InputError(
             eye.mesh_path,
             "vertices",
             f"the eye is {size:g} units across; eye meshes are in millimetres, "
-            f"and bee eyes are {MIN_EYE_SIZE_MM:g}–{MAX_EYE_SIZE_MM:g} mm long",
+            f"and bee eyes are {EYE_SIZE_MM[0]:g}–{EYE_SIZE_MM[1]:g} mm long",
         )
     t = vertices[faces]
     normal_z = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]

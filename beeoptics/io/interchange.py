@@ -33,13 +33,15 @@ github.com/BrainsOnBoard/compound-ray:
     (x, y, z) is ``position + x·right + y·up + z·forward``, where right, up
     and forward are the glTF camera node's +x, +y and −z.
 
-Units. The renderer converts nothing: positions and offsets are added to
-the camera position in the units of the glTF scene, and glTF 2.0 defines
-those as metres, although eye-specification.txt says millimetres (the
-example eyes in ``data/eyes`` have arbitrary radii, set by
-``data/eyes/tools/rescaler.py``, so they settle nothing). Files are
-therefore written and read in metres by default; ``units="mm"``, or a
-number of file units per millimetre, matches other scenes.
+Units. ``data/eyes/eye-specification.txt`` gives every length "in
+millimeters", and CompoundRay's eyes, its micro-CT honey-bee eyes among
+them, are written so; files are therefore read and written in millimetres
+by default. The renderer itself converts nothing (positions are added to
+the camera position in the glTF scene's units, which glTF 2.0 defines as
+metres), so ``units="m"``, or a number of file units per millimetre,
+matches a scene built in other units. An eye read at a size bee eyes do
+not have (:data:`beeoptics.headframe.EYE_SIZE_MM`) is refused: it is in
+other units than those named.
 
 Frame. With ``frame="camera"`` (the default) the eye file is in the frame
 of a camera at the head origin looking anterior with dorsal up: right =
@@ -100,10 +102,10 @@ from pathlib import Path
 import numpy as np
 import open3d as o3d
 
-from beeoptics.headframe import RIGHT, SIDES
+from beeoptics.headframe import EYE_SIZE_MM, SIDES
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
-from beeoptics.io.receptortable import ReceptorTable
+from beeoptics.io.receptortable import MEASURES, ReceptorTable, checked
 
 #: Rows: the CompoundRay camera's right, up and forward axes in the head frame.
 CAMERA_FROM_HEAD = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
@@ -114,13 +116,13 @@ UNITS_PER_MM = {"m": 1e-3, "mm": 1.0}
 #: CompoundRay acceptance angle over Δρ, per convention (see the module notes).
 ANGLE_FACTOR = {"fwhm": 1.0, "variance": np.sqrt(2.0)}
 #: Numeric columns of a receptor table stored as doubles in a PLY file.
-PLY_FLOATS = ("facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
+PLY_FLOATS = MEASURES
 #: Significant digits of numbers in ``.eye`` files: float32, which CompoundRay
 #: reads, round-trips through 9, as in :mod:`beeoptics.io.table`.
 EYE_FORMAT = "%.9g"
 
 
-def read_compoundray_eye(path, side=RIGHT, units="m", frame="camera", angle_convention="fwhm",
+def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_convention="fwhm",
                          delta_phi_deg=None, facet_diameter_um=None):
     """Read a CompoundRay ``.eye`` file as a receptor table.
 
@@ -128,9 +130,10 @@ def read_compoundray_eye(path, side=RIGHT, units="m", frame="camera", angle_conv
     ----------
     path : str or Path
         The eye file.
-    side : {"right", "left", "auto"}
+    side : {"auto", "right", "left"}
         The eye the file describes; "auto" splits it by the sign of head-frame
-        y (negative: right), falling back on the axis where y is 0.
+        y (negative: right), falling back on the axis where y is 0, so that
+        a file of both eyes is read as both.
     units : {"m", "mm"} or float
         Units of the file, or file units per millimetre.
     frame : {"camera", "head"}
@@ -152,7 +155,8 @@ def read_compoundray_eye(path, side=RIGHT, units="m", frame="camera", angle_conv
     InputError
         If the file is missing, empty, has a line without exactly eight
         numbers, a value that is not finite, a direction of zero length, or a
-        negative acceptance angle or focal point offset.
+        negative acceptance angle or focal point offset, or an eye is not of
+        a bee eye's size in the units named.
     """
     path = Path(path)
     scale, rotation, factor = _conventions(units, frame, angle_convention)
@@ -173,6 +177,12 @@ def read_compoundray_eye(path, side=RIGHT, units="m", frame="camera", angle_conv
         sides = np.where(key < 0.0, SIDES[0], SIDES[1])
     else:
         sides = np.full(n, side)
+    for s in SIDES:
+        mine = position[sides == s]
+        size = np.ptp(mine, axis=0).max() if len(mine) > 1 else EYE_SIZE_MM[0]
+        if not EYE_SIZE_MM[0] <= size <= EYE_SIZE_MM[1]:
+            raise InputError(path, "x, y, z", f"the {s} eye is {size:.3g} mm across read in units {units!r}; "
+                             f"bee eyes are {EYE_SIZE_MM[0]:g}–{EYE_SIZE_MM[1]:g} mm: give the file's units")
     return ReceptorTable(
         id=np.arange(n), side=sides, position=position, axis=axis,
         facet_diameter_um=np.full(n, np.nan if facet_diameter_um is None else float(facet_diameter_um)),
@@ -182,7 +192,7 @@ def read_compoundray_eye(path, side=RIGHT, units="m", frame="camera", angle_conv
     )
 
 
-def write_compoundray_eye(path, table, side=None, units="m", frame="camera", angle_convention="fwhm",
+def write_compoundray_eye(path, table, side=None, units="mm", frame="camera", angle_convention="fwhm",
                           focal_offset_mm=0.0):
     """Write a receptor table, or one side of it, as a CompoundRay ``.eye`` file, atomically.
 
@@ -333,9 +343,9 @@ def read_receptor_ply(path):
     code = column("side").ravel()
     if not np.isin(code, np.arange(len(SIDES))).all():
         raise InputError(path, "side", "side codes must be 0 (right) or 1 (left)")
-    return ReceptorTable(id=column("id").ravel().astype(np.int64), side=np.array(SIDES)[code.astype(np.int64)],
-                         position=position, axis=axis,
-                         **{name: column(name).ravel().astype(np.float64) for name in PLY_FLOATS})
+    return checked(ReceptorTable(id=column("id").ravel().astype(np.int64), side=np.array(SIDES)[code.astype(np.int64)],
+                                 position=position, axis=axis,
+                                 **{name: column(name).ravel().astype(np.float64) for name in PLY_FLOATS}), path)
 
 
 def _conventions(units, frame, angle_convention):

@@ -9,7 +9,8 @@ Columns of ``receptors.csv`` (``results/eyes/{eye}/receptors.csv``):
 ``x, y, z``
     Facet centre in the head frame, mm (+x anterior, +y left, +z dorsal).
 ``ax, ay, az``
-    Unit receptor axis.
+    Receptor axis; a table may give any non-zero length, and it is read as
+    the unit vector along it.
 ``facet_diameter_um``
     Lens diameter, µm.
 ``delta_phi_deg``
@@ -22,11 +23,14 @@ from typing import NamedTuple
 
 import numpy as np
 
+from beeoptics.headframe import SIDES
 from beeoptics.io.errors import InputError
 from beeoptics.io.table import read_table, write_table
 
 COLUMNS = ("id", "side", "x", "y", "z", "ax", "ay", "az",
            "facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
+#: The columns that measure a receptor's optics, one number each.
+MEASURES = ("facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
 
 
 class ReceptorTable(NamedTuple):
@@ -66,14 +70,57 @@ def read_receptors(path):
     Raises
     ------
     InputError
-        If a column is missing or not numeric, or an acceptance angle is not positive.
+        If a column is missing or not numeric, or a receptor is unusable
+        (:func:`checked`).
     """
     t = read_table(path, numeric=[c for c in COLUMNS if c != "side"], text=["side"])
-    drho = np.asarray(t["delta_rho_deg"], float)
-    if not (np.isfinite(drho) & (drho > 0)).all():
-        raise InputError(path, "delta_rho_deg", "acceptance angles must be positive")
-    return ReceptorTable(
+    return checked(ReceptorTable(
         id=t["id"], side=t["side"],
         position=np.column_stack([t["x"], t["y"], t["z"]]), axis=np.column_stack([t["ax"], t["ay"], t["az"]]),
         facet_diameter_um=t["facet_diameter_um"], delta_phi_deg=t["delta_phi_deg"], delta_rho_deg=t["delta_rho_deg"],
-    )
+    ), path)
+
+
+def checked(table, path):
+    """The table with unit axes, once every receptor is found usable for tracing.
+
+    A receptor needs a finite position, an axis of finite, non-zero length,
+    a positive, finite acceptance angle and a side of :data:`~beeoptics.headframe.SIDES`;
+    ids must be whole and unique. Δφ and the facet diameter may be missing
+    (NaN): nothing is traced with them.
+
+    Raises
+    ------
+    InputError
+        Naming ``path``, the column and the first receptor at fault.
+    """
+    ids = np.asarray(table.id)
+    if ids.dtype.kind not in "iu":
+        raise InputError(path, "id", "ids must be whole numbers")
+    if len(np.unique(ids)) != len(ids):
+        raise InputError(path, "id", f"receptor {_first(ids, _repeated(ids))} appears twice")
+    length = np.linalg.norm(table.axis, axis=1)
+    drho = np.asarray(table.delta_rho_deg, float)
+    for column, bad, message in (
+        ("side", ~np.isin(np.asarray(table.side).astype(str), SIDES), f"side must be one of {', '.join(SIDES)}"),
+        ("x, y, z", ~np.isfinite(table.position).all(1), "the position is not finite"),
+        ("ax, ay, az", ~np.isfinite(table.axis).all(1), "the axis is not finite"),
+        ("ax, ay, az", length == 0.0, "the axis has zero length; a receptor needs a direction"),
+        ("delta_rho_deg", ~(np.isfinite(drho) & (drho > 0)), "acceptance angles must be positive and finite"),
+    ):
+        if bad.any():
+            raise InputError(path, column, f"receptor {_first(ids, bad)}: {message}")
+    # Axes of unit length as far as the file's nine digits go are kept bit for bit.
+    unit = np.abs(length - 1.0) <= 1e-6
+    return table._replace(axis=np.where(unit[:, None], table.axis, table.axis / length[:, None]))
+
+
+def _first(ids, bad):
+    return ids[np.flatnonzero(bad)[0]]
+
+
+def _repeated(ids):
+    order = np.argsort(ids, kind="stable")
+    twice = np.zeros(len(ids), bool)
+    twice[order[1:][np.diff(ids[order]) == 0]] = True
+    return twice

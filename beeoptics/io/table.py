@@ -4,6 +4,8 @@ Tables are plain comma-separated text with a header row, readable as they
 are by R (``read.csv``), pandas or a spreadsheet. Floats are written with
 nine significant digits, enough to round-trip the float32 values of the
 tracer and to keep metre-scale scene coordinates at micrometre precision.
+A value that is not defined (NaN) is an empty field, which R reads as NA
+and pandas as NaN, and which is read back here as NaN.
 """
 
 import csv
@@ -31,7 +33,8 @@ def write_table(path, columns):
 def _format(column):
     if column.dtype.kind in "iu":
         return column.astype(str)
-    return np.char.mod("%.9g", column.astype(float))
+    values = column.astype(float)
+    return np.where(np.isnan(values), "", np.char.mod("%.9g", values))
 
 
 def read_table(path, numeric=(), text=()):
@@ -43,11 +46,13 @@ def read_table(path, numeric=(), text=()):
     numeric, text : sequence of str
         Columns that must be present; ``numeric`` ones must hold numbers.
 
+    Empty fields of a column of numbers are NaN.
+
     Raises
     ------
     InputError
         If the file is missing or empty, a listed column is absent, or a
-        numeric column holds something else.
+        numeric column holds something else (naming its row and value).
     """
     try:
         with open(path, newline="") as f:
@@ -68,11 +73,23 @@ def read_table(path, numeric=(), text=()):
 
 
 def _parse(values, path, name, numeric):
-    for kind in (int, float):
-        try:
-            return np.array([kind(v) for v in values])
-        except ValueError:
-            continue
+    try:
+        return np.array([int(v) for v in values])
+    except ValueError:
+        pass
+    try:
+        return np.array([float(v) if v.strip() else np.nan for v in values])
+    except ValueError:
+        pass
     if numeric:
-        raise InputError(path, name, "holds a value that is not a number")
+        row, value = next((k, v) for k, v in enumerate(values, 2) if not _is_number(v))
+        raise InputError(path, name, f"row {row}: {value!r} is not a number")
     return np.array(values)
+
+
+def _is_number(text):
+    try:
+        float(text)
+    except ValueError:
+        return not text.strip()
+    return True

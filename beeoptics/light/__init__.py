@@ -23,5 +23,5 @@ __all__, __getattr__ = exports(__name__, {
     "scattering": ("Surfaces", "lambert", "phong", "scatter"),
     "emitters": ("Lights", "sample_sun", "sees_sun"),
     "integrator": ("trace_paths",),
-    "batching": ("TraceSettings", "in_batches"),
+    "batching": ("SAMPLE_BLOCK", "TraceSettings", "trace_bundles"),
 })

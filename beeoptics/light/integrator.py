@@ -106,7 +106,7 @@ def _sum_contributions(contributions, n, lights, reflectance, radix, depth):
     return np.asarray(matrix @ spectra)
 
 
-def trace_paths(scene, origins, directions, weights, *, depth, seed, first_stream=0,
+def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=None, first_samples=None,
                 rs=None, counts=None):
     """Spectral radiance arriving along bundles of rays, averaged per bundle.
 
@@ -122,9 +122,13 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
     depth : int
         Scattering events per path, at least 1.
     seed : int
-    first_stream : int
-        Index of the first bundle among all bundles of the run, for the
-        random numbers: results do not depend on how a run is chunked.
+    streams : ndarray of int, shape (n,), optional
+        Each bundle's index among all bundles of the run (0 … n−1 by
+        default), for the random numbers: results do not depend on how a run
+        is chunked.
+    first_samples : ndarray of int, shape (n,), optional
+        The index of each bundle's first sample (0 by default), for a bundle
+        traced in blocks of its samples.
     rs : open3d.t.geometry.RaycastingScene, optional
         Built from ``scene`` if not given.
     counts : dict, optional
@@ -149,8 +153,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, first_strea
     eps = OFFSET * max(scene.extent, 1.0)
 
     bundle = np.repeat(np.arange(n), s)
-    stream = bundle + first_stream
+    stream = bundle if streams is None else np.repeat(streams, s)
     sample = np.tile(np.arange(s), n)
+    if first_samples is not None:
+        sample += np.repeat(first_samples, s)
     # Each ray as Embree takes it: origin and direction in single precision.
     rays = np.empty((n * s, 6), np.float32)
     rays[:, :3] = np.repeat(origins, s, axis=0)

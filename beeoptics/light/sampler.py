@@ -43,8 +43,8 @@ def uniform(seed, stream, sample, dimension):
     return (key >> np.uint64(11)).astype(np.float64) * (1.0 / 2.0**53)
 
 
-def shifted_halton(samples, seed, streams, dimensions):
-    """Points in the unit square: one scrambled Halton set, shifted per stream.
+def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
+    """Points in the unit square: one scrambled Halton sequence, shifted per stream.
 
     Parameters
     ----------
@@ -55,15 +55,23 @@ def shifted_halton(samples, seed, streams, dimensions):
         The bundles' indices among all bundles of the run.
     dimensions : pair of int
         The random dimensions of the two shifts.
+    first_samples : ndarray of int, shape (n,), optional
+        Where in the sequence each stream's points start (0 by default), so
+        that a bundle's samples can be drawn in blocks.
 
     Returns
     -------
     ndarray, shape (n, samples, 2)
     """
-    base = qmc.Halton(2, scramble=True, seed=np.random.default_rng(seed)).random(samples)
     n = len(streams)
+    first_samples = np.zeros(n, np.int64) if first_samples is None else np.asarray(first_samples)
+    base = np.empty((n, samples, 2))
+    for start in np.unique(first_samples):
+        halton = qmc.Halton(2, scramble=True, seed=np.random.default_rng(seed))
+        halton.fast_forward(int(start))
+        base[first_samples == start] = halton.random(samples)
     shift = np.stack([uniform(seed, streams, np.zeros(n, np.int64), d) for d in dimensions], -1)
-    return (base[None] + shift[:, None, :]) % 1.0
+    return (base + shift[:, None, :]) % 1.0
 
 
 def tangent_frames(axes):

@@ -27,7 +27,7 @@ CONE_DIMENSIONS = (250, 251)
 PIXEL_DIMENSIONS = (252, 253)
 
 
-def cone_samples(axes, delta_rho_deg, samples, seed, first=0):
+def cone_samples(axes, delta_rho_deg, samples, seed, streams=None, first_samples=None):
     """Directions importance-sampled from each receptor's Gaussian acceptance cone.
 
     Parameters
@@ -39,9 +39,12 @@ def cone_samples(axes, delta_rho_deg, samples, seed, first=0):
     samples : int
         Directions per receptor.
     seed : int
-    first : int
-        Index of the first of these receptors in the whole eye, so that a
-        receptor draws the same directions however the eye is split up.
+    streams : ndarray of int, shape (n,), optional
+        Each receptor's index in the whole eye (0 … n−1 by default), so that
+        a receptor draws the same directions however the eye is split up.
+    first_samples : ndarray of int, shape (n,), optional
+        The index of each receptor's first sample, for drawing its samples
+        in blocks (0 by default).
 
     Returns
     -------
@@ -54,7 +57,8 @@ def cone_samples(axes, delta_rho_deg, samples, seed, first=0):
         raise ValueError(f"cone_samples: samples must be a positive whole number, not {samples!r}")
     axes = np.asarray(axes, float)
     n = len(axes)
-    u = shifted_halton(samples, seed, np.arange(first, first + n), CONE_DIMENSIONS)
+    streams = np.arange(n) if streams is None else np.asarray(streams)
+    u = shifted_halton(samples, seed, streams, CONE_DIMENSIONS, first_samples)
     sigma = np.radians(np.broadcast_to(delta_rho_deg, (n,))) / np.sqrt(2.0 * FOUR_LN2)
     theta = sigma[:, None] * np.sqrt(-2.0 * np.log1p(-u[..., 0]))
     phi = 2.0 * np.pi * u[..., 1]

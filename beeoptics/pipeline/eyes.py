@@ -18,8 +18,6 @@ from beeoptics.io.receptortable import read_receptors, write_receptors
 from beeoptics.io.table import write_table
 from beeoptics.vision.sensitivity import LAMBDA_MAX_APIS, RECEPTORS
 
-#: Outputs of :func:`build_facets`: name and file name.
-FACET_OUTPUTS = {"receptors": "receptors.csv", "quality": "quality.json", "relaxation": "relaxation.npz"}
 #: Wavelengths at which the Rayleigh limit is given, one per receptor class: its λmax (Peitsch et al. 1992).
 RAYLEIGH_NM = dict(zip(RECEPTORS, LAMBDA_MAX_APIS))
 

@@ -22,19 +22,6 @@ from beeoptics.vision import colourspace
 from beeoptics.vision.catches import photon_flux
 from beeoptics.vision.sensitivity import LAMBDA_MAX_APIS, RECEPTORS, TEMPLATE, overall_sensitivity, sensitivities
 
-#: The images :func:`retinal_images` writes for one eye in one scene: output name, file name.
-IMAGES = {
-    "voronoi_map3": "voronoi_map3.png",
-    "voronoi_map2": "voronoi_map2.png",
-    "density_map3": "density_map3.png",
-    "density_map3_normalised": "density_map3_normalised.png",
-    "channel_uv": "channel_uv.png",
-    "channel_b": "channel_b.png",
-    "channel_g": "channel_g.png",
-    "exr": "catches.exr",
-}
-
-
 def _responses(responses_csv, irradiance_npz, columns=()):
     """The responses table, its catches (n, 3), and every receptor's map3 colour, exposure and map2 colour."""
     resp = read_table(responses_csv, numeric=["id", *RECEPTORS, *columns], text=["side"])
@@ -44,7 +31,10 @@ def _responses(responses_csv, irradiance_npz, columns=()):
 
 
 def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, width_px=400):
-    """Voronoi, density and channel images of one eye in one scene, and the EXR of catches (:data:`IMAGES`)."""
+    """Voronoi, density and channel images of one eye in one scene, and the EXR of catches.
+
+    ``outputs`` maps the names of :data:`beeoptics.pipeline.outputs.IMAGES` to paths.
+    """
     eye = load_eye(eye_file)
     table = read_receptors(receptors_csv)
     _, q, _, (colours, scale, srgb) = _responses(responses_csv, irradiance_npz)

@@ -4,6 +4,7 @@ Each stage reads its inputs, calls the library and writes ``outputs``, a
 mapping of output names to paths, atomically.
 """
 
+import threading
 import time
 
 import numpy as np
@@ -15,7 +16,7 @@ from beeoptics.io.imagefile import write_exr, write_png
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background
-from beeoptics.light.batching import in_batches
+from beeoptics.light.batching import trace_bundles
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, pinhole_rays
@@ -60,21 +61,22 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     bounds = np.linspace(0, len(origins), parts + 1).round().astype(int)
     first, last = bounds[part], bounds[part + 1]
     rs = raycasting_scene(scene)
-    radiance = np.empty((last - first, len(wl)))
-    counts = {"cast": 0, "shadow": 0}
+    counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     start = time.perf_counter()
 
-    def trace(lo, hi):
-        dirs, weights = cone_samples(axes[lo:hi], drho[lo:hi], settings.samples, settings.seed, first=lo)
+    def trace(blocks):
+        dirs, weights = cone_samples(axes[blocks.bundle], drho[blocks.bundle], blocks.samples, settings.seed,
+                                     streams=blocks.bundle, first_samples=blocks.first_sample)
         cast = {}
-        return trace_paths(scene, origins[lo:hi], dirs, weights, depth=settings.depth, seed=settings.seed,
-                           first_stream=lo, rs=rs, counts=cast), cast
+        radiance = trace_paths(scene, origins[blocks.bundle], dirs, weights, depth=settings.depth,
+                               seed=settings.seed, streams=blocks.bundle, first_samples=blocks.first_sample, rs=rs,
+                               counts=cast)
+        with counting:
+            for k in counts:
+                counts[k] += cast[k]
+        return radiance, weights.sum(axis=1)
 
-    for (lo, hi), (result, cast) in in_batches(trace, first, last, settings):
-        radiance[lo - first:hi - first] = result
-        counts = {k: counts[k] + cast[k] for k in counts}
-        if progress is not None:
-            progress(hi - first, last - first)
+    radiance = trace_bundles(trace, first, last, settings, len(wl), progress)
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], time.perf_counter() - start)
     with atomic_path(outputs["radiance"]) as tmp:
@@ -150,15 +152,15 @@ def human_view(scene_file, outputs, *, spectral, settings):
     scene = load_scene(scene_file, wl)
     origin, dirs = pinhole_rays(scene.camera, settings.samples, settings.seed)
     rs = raycasting_scene(scene)
-    xyz = np.empty((len(dirs), 3))
 
-    def trace(lo, hi):
-        return trace_paths(scene, np.broadcast_to(origin, (hi - lo, 3)), dirs[lo:hi],
-                           np.ones((hi - lo, settings.samples)), depth=settings.depth, seed=settings.seed,
-                           first_stream=lo, rs=rs)
+    def trace(blocks):
+        ones = np.ones((len(blocks.bundle), blocks.samples))
+        return trace_paths(scene, np.broadcast_to(origin, (len(blocks.bundle), 3)),
+                           dirs[blocks.bundle[:, None], blocks.first_sample[:, None] + np.arange(blocks.samples)], ones,
+                           depth=settings.depth, seed=settings.seed, streams=blocks.bundle,
+                           first_samples=blocks.first_sample, rs=rs), ones.sum(axis=1)
 
-    for (lo, hi), radiance in in_batches(trace, 0, len(dirs), settings):
-        xyz[lo:hi] = tristimulus(wl, radiance)
+    xyz = tristimulus(wl, trace_bundles(trace, 0, len(dirs), settings, len(wl)))
     shape = (scene.camera["height_px"], scene.camera["width_px"], 3)
     write_png(outputs["png"], srgb(xyz, np.percentile(xyz[:, 1], HUMAN_WHITE_PERCENTILE)).reshape(shape))
     write_exr(outputs["exr"], xyz.reshape(shape), ("X", "Y", "Z"))

@@ -446,6 +446,10 @@ def spectral_locus(sensitivities, wavelengths, background_q, flux):
 def colour_coordinates(q, background_q, weber=BEE_WEBER):
     """Every colour-space coordinate of a set of catches, as named columns.
 
+    A receptor that caught no light (every class's catch zero, as when it
+    looks into the black below a sky-only scene) has no colour: its
+    coordinates are NaN (empty fields in a CSV) and ``lit`` is 0.
+
     Parameters
     ----------
     q : array_like, shape (n, 3)
@@ -458,19 +462,24 @@ def colour_coordinates(q, background_q, weber=BEE_WEBER):
     Returns
     -------
     dict of ndarray (n,)
-        ``q_UV, q_B, q_G`` (von Kries), ``E_UV, E_B, E_G``, ``hex_x, hex_y,
-        hex_hue_deg, hex_r``, ``coc_A, coc_B``, ``tri_x, tri_y`` (of the
-        adapted catches, so the background is at the centre) and ``rnl_dS``
-        (JND from the background).
+        ``lit`` (1 where the receptor caught light, else 0), ``q_UV, q_B,
+        q_G`` (von Kries), ``E_UV, E_B, E_G``, ``hex_x, hex_y, hex_hue_deg,
+        hex_r``, ``coc_A, coc_B``, ``tri_x, tri_y`` (of the adapted catches,
+        so the background is at the centre) and ``rnl_dS`` (JND from the
+        background).
     """
     q = np.asarray(q, float)
-    adapted = von_kries(q, background_q)
+    lit = (q > 0.0).any(axis=-1)
+    # Coordinates of the lit receptors only: the others' are not numbers.
+    adapted = np.full(q.shape, np.nan)
+    adapted[lit] = von_kries(q[lit], np.broadcast_to(background_q, q.shape)[lit])
     e = excitation(adapted)
     hexagon_xy = hexagon(e)
     hue, r = hexagon_polar(hexagon_xy)
     a_b = coc(e)
     tri = triangle(adapted)
-    columns = {f"q_{k}": adapted[:, i] for i, k in enumerate(RECEPTORS)}
+    columns = {"lit": lit.astype(int)}
+    columns.update({f"q_{k}": adapted[:, i] for i, k in enumerate(RECEPTORS)})
     columns.update({f"E_{k}": e[:, i] for i, k in enumerate(RECEPTORS)})
     columns.update(hex_x=hexagon_xy[:, 0], hex_y=hexagon_xy[:, 1], hex_hue_deg=hue, hex_r=r,
                    coc_A=a_b[:, 0], coc_B=a_b[:, 1], tri_x=tri[:, 0], tri_y=tri[:, 1],

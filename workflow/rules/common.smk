@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from beeoptics.pipeline import sweeps
-from beeoptics.pipeline.images import IMAGES as RETINAL_IMAGES
+from beeoptics.pipeline.outputs import IMAGES as RETINAL_IMAGES
 from beeoptics.vision.sensitivity import TEMPLATE
 
 EYES_DIR = Path(config["eyes_dir"])
