@@ -20,7 +20,8 @@ report: "workflow/report/workflow.rst"
 # Checked once, defaults filled in; a wrong key or value, or an eye class or scene
 # without its folder, stops the run at once with one line naming it.
 try:
-    validate_config(config, CONFIG_SCHEMA, source=", ".join(map(str, workflow.configfiles)) or "config")
+    validate_config(config, CONFIG_SCHEMA, source=", ".join(map(str, workflow.configfiles)) or "config",
+                    overrides=workflow.config_settings.config)
 except InputError as e:
     sys.exit(f"beeoptics: error: {e}")
 

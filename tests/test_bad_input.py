@@ -412,6 +412,32 @@ def test_known_eyes_and_scenes_pass_the_config_check(tmp_path):
     assert validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml") is cfg
 
 
+def test_a_config_key_the_command_line_set_is_blamed_on_the_command_line(tmp_path):
+    cfg = default_config()
+    cfg["eyes"] = ["wroker"]
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml", overrides={"eyes": ["wroker"]})
+    assert e.value.path == "command line (--config)" and e.value.field == "eyes.0"
+    cfg = default_config()
+    cfg["trace"]["depth"] = 0
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml", overrides={"trace": {"parts": 2}})
+    assert_names(e, tmp_path / "config.yaml", "trace.depth")
+
+
+def test_numbers_given_as_text_on_the_command_line_are_read_as_numbers(tmp_path):
+    # Snakemake 9 reads --config trace='{parts: 16}' as {"trace": {"parts": "16"}}.
+    cfg = default_config()
+    cfg["trace"]["parts"] = "16"
+    cfg["spectral"]["step_nm"] = "2.5"
+    validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml", overrides={"trace": {"parts": "16"}})
+    assert cfg["trace"]["parts"] == 16 and cfg["spectral"]["step_nm"] == 2.5
+    cfg["trace"]["parts"] = "sixteen"
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert_names(e, tmp_path / "config.yaml", "trace.parts")
+
+
 def dry_run_refuses(tmp_path, cfg):
     """What a dry run of the workflow with this config prints; it must fail."""
     (tmp_path / "config.yaml").write_text(yaml.safe_dump(cfg))

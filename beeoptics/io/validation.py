@@ -9,6 +9,7 @@ configuration is checked the same way against its own schema
 
 import copy
 import difflib
+from collections.abc import Mapping
 import math
 import re
 from functools import cache
@@ -120,16 +121,21 @@ def validate(data, schema_name, path):
 CONFIG_FOLDERS = {"eyes": ("eyes_dir", "eye.yaml"), "scenes": ("scenes_dir", "scene.yaml")}
 
 
-def validate_config(config, schema_path, source="config", folders=True):
+def validate_config(config, schema_path, source="config", folders=True, overrides=None):
     """Check the workflow's configuration, filling in defaults in place.
 
     The same check as the packaged schemas get: the first violation of
-    ``schema_path`` (:data:`CONFIG_SCHEMA`) as one line
-    naming ``source`` and the dotted key, with a suggestion for a misspelt
-    key; then, with ``folders``, that every eye class and scene named, in
-    the run or in a sweep, has its folder, and that a named adapting
-    background is a material of each scene, so that a typo stops the run before any job starts.
-    Relative folders are taken from the working directory, as the rules take them.
+    ``schema_path`` (:data:`CONFIG_SCHEMA`) as one line naming ``source``
+    (or "command line", for a key the command line set) and the dotted key,
+    with a suggestion for a misspelt key; then, with ``folders``, that every
+    eye class and scene named, in the run or in a sweep, has its folder, and
+    that a named adapting background is a material of each scene, so that a
+    typo stops the run before any job starts. Relative folders are taken
+    from the working directory, as the rules take them.
+
+    Snakemake reads the values of a nested ``--config`` mapping as text
+    (``--config trace='{parts: 16}'`` gives ``"16"``): text where the schema
+    wants a number is read as one first.
 
     Parameters
     ----------
@@ -138,31 +144,84 @@ def validate_config(config, schema_path, source="config", folders=True):
     schema_path : str or Path
     source : str or Path
         The config file(s), for the error message.
+    overrides : mapping, optional
+        What the command line set (Snakemake's ``--config``).
 
     Raises
     ------
     InputError
     """
-    _check(config, _schema_validator(Path(schema_path)), source)
-    if folders:
-        for key, (dir_key, filename) in CONFIG_FOLDERS.items():
-            root = Path(config[dir_key])
-            named = [(f"{key}.{i}", n) for i, n in enumerate(config[key])]
-            named += [(f"sweeps.{s}.{key}.{i}", n) for s, sweep in config.get("sweeps", {}).items()
-                      for i, n in enumerate(sweep.get(key, []))]
-            for field, name in named:
-                if not (root / name / filename).is_file():
-                    found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
-                    raise InputError(
-                        source, field,
-                        f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
-                        f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
-                    )
-        root = Path(config["scenes_dir"])
-        scenes = [*config["scenes"], *(n for sweep in config.get("sweeps", {}).values() for n in sweep["scenes"])]
-        for name in dict.fromkeys(scenes):
-            check_background(root / name / "scene.yaml", config["colour"]["background"], source, "colour.background")
+    validator = _schema_validator(Path(schema_path))
+    _numbers_from_text(config, validator.schema)
+    try:
+        _check(config, validator, source)
+        if folders:
+            _check_folders(config, source)
+    except InputError as e:
+        if overrides and _sets(overrides, e.field):
+            raise InputError("command line (--config)", e.field, str(e).removeprefix(f"{e.path}: {e.field}: ")) \
+                from None
+        raise
     return config
+
+
+def _numbers_from_text(data, schema):
+    """Read text as a number, in place, wherever the schema wants a number or an integer."""
+    if isinstance(data, dict):
+        for key, value in data.items():
+            sub = schema.get("properties", {}).get(key) or schema.get("additionalProperties")
+            if isinstance(sub, dict):
+                if isinstance(value, str) and sub.get("type") in ("integer", "number"):
+                    data[key] = _number(value, sub["type"])
+                else:
+                    _numbers_from_text(value, sub)
+    elif isinstance(data, list) and isinstance(schema.get("items"), dict):
+        for item in data:
+            _numbers_from_text(item, schema["items"])
+
+
+def _number(text, kind):
+    """``text`` as an int or a float if it is one, else unchanged (the schema then names it)."""
+    for parse in ((int,) if kind == "integer" else (int, float)):
+        try:
+            return parse(text)
+        except ValueError:
+            continue
+    return text
+
+
+def _sets(overrides, field):
+    """Whether the dotted ``field`` lies within what ``overrides`` set."""
+    node = overrides
+    for part in field.split("."):
+        if isinstance(node, Mapping) and part in node:
+            node = node[part]
+        elif isinstance(node, (list, tuple)) and part.isdigit():
+            return True
+        else:
+            return False
+    return True
+
+
+def _check_folders(config, source):
+    """Every eye class and scene named has its folder, and a named background is a material of each scene."""
+    for key, (dir_key, filename) in CONFIG_FOLDERS.items():
+        root = Path(config[dir_key])
+        named = [(f"{key}.{i}", n) for i, n in enumerate(config[key])]
+        named += [(f"sweeps.{s}.{key}.{i}", n) for s, sweep in config.get("sweeps", {}).items()
+                  for i, n in enumerate(sweep.get(key, []))]
+        for field, name in named:
+            if not (root / name / filename).is_file():
+                found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
+                raise InputError(
+                    source, field,
+                    f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
+                    f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
+                )
+    root = Path(config["scenes_dir"])
+    scenes = [*config["scenes"], *(n for sweep in config.get("sweeps", {}).values() for n in sweep["scenes"])]
+    for name in dict.fromkeys(scenes):
+        check_background(root / name / "scene.yaml", config["colour"]["background"], source, "colour.background")
 
 
 def check_background(scene_file, background, source, field):
