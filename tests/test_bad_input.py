@@ -6,7 +6,9 @@ Snakemake's validation error) whose one-line message names the file and
 the field at fault.
 """
 
+import base64
 import copy
+import json
 import shutil
 import subprocess
 import sys
@@ -685,3 +687,70 @@ def test_a_failed_write_leaves_neither_the_artifact_nor_a_temporary_file(tmp_pat
             raise RuntimeError("killed")
     assert not out.exists()
     assert leftovers(tmp_path, "quality") == []
+
+
+# --- meshes a native library would crash on, checked in Python first -------------------------
+
+TRIANGLES = [[0, 1, 2], [0, 2, 3]]
+
+
+def ply_bytes(vertices, faces):
+    """A binary little-endian PLY of float vertices and int triangles."""
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\nproperty float x\n"
+              f"property float y\nproperty float z\nelement face {len(faces)}\n"
+              "property list uchar int vertex_indices\nend_header\n").encode()
+    body = np.asarray(vertices, "<f4").tobytes()
+    body += b"".join(np.uint8(3).tobytes() + np.asarray(f, "<i4").tobytes() for f in faces)
+    return header + body
+
+
+def gltf_text(vertices, faces):
+    """A glTF of one primitive, its buffer inline."""
+    v = np.asarray(vertices, "<f4").tobytes()
+    i = np.asarray(faces, "<u4").tobytes()
+    return json.dumps({
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": len(v) + len(i),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(v + i).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": len(v)},
+                        {"buffer": 0, "byteOffset": len(v), "byteLength": len(i)}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(vertices), "type": "VEC3"},
+                      {"bufferView": 1, "componentType": 5125, "count": 3 * len(faces), "type": "SCALAR"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    })
+
+
+@pytest.mark.parametrize("name, write, field, words", [
+    ("past.obj", lambda p: write_obj(p, SQUARE, [[0, 1, 2], [0, 2, 9]]), "face 2", "refers to vertex 10"),
+    ("negative.obj", lambda p: p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf -1 -2 -3\n"), "face 2",
+     "relative"),
+    ("repeat.obj", lambda p: write_obj(p, SQUARE, [[0, 1, 2], [0, 2, 2]]), "face 2", "names one vertex twice"),
+    ("flat.obj", lambda p: write_obj(p, [[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0]], [[0, 1, 3], [0, 1, 2]]),
+     "face 2", "zero area"),
+    ("nan.obj", lambda p: p.write_text("v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n"), "vertex 3", "not a finite"),
+    ("texture_only.obj", lambda p: p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf /1 /1 /1\n"), "",
+     "cannot read mesh"),
+    ("past.ply", lambda p: p.write_bytes(ply_bytes(SQUARE, [[0, 1, 2], [0, 2, 7]])), "face 2", "refers to vertex 8"),
+    ("truncated.ply", lambda p: p.write_bytes(ply_bytes(SQUARE, TRIANGLES)[:-7]), "", "cannot read mesh"),
+    ("past.gltf", lambda p: p.write_text(gltf_text(SQUARE, [[0, 1, 2], [0, 2, 4]])), "face 2", "refers to vertex 5"),
+], ids=lambda x: x if isinstance(x, str) and "." in x else "")
+def test_a_mesh_that_would_crash_a_native_library_is_refused_naming_the_element(tmp_path, name, write, field, words):
+    path = tmp_path / name
+    write(path)
+    with pytest.raises(InputError) as e:
+        read_mesh(path)
+    assert words in assert_names(e, path, field)
+
+
+def test_a_scene_mesh_with_an_index_past_its_vertices_stops_the_trace_in_one_line(tmp_path):
+    shutil.copytree(DATA / "scenes" / "flower", tmp_path / "flower")
+    obj = tmp_path / "flower" / "daisy.obj"
+    obj.write_text(obj.read_text().replace("f 1 2 3\n", "f 1 2 300\n", 1))
+    result = run_stage(f"""
+        from beeoptics.light.scene import load_scene
+        from beeoptics.spectra import grid
+        load_scene({str(tmp_path / "flower" / "scene.yaml")!r}, grid(300, 700, 10))
+        """, tmp_path)
+    assert result.returncode == 1  # an exception, not a signal
+    assert result.stderr.strip().splitlines()[-1].endswith("daisy.obj: face 1: refers to vertex 300, but the mesh "
+                                                           "has 104 vertices")

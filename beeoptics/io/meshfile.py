@@ -1,7 +1,8 @@
 """Reading triangle meshes, and refusing the ones that cannot be used.
 
 Meshes are read with pymeshlab, which knows OBJ, PLY, STL, OFF and glTF
-(``.gltf`` and ``.glb``).
+(``.gltf`` and ``.glb``), once every index and value of the file has been
+checked in Python (:mod:`beeoptics.io.meshcheck`), since a bad index crashes it.
 An eye or scene mesh must exist, hold faces, be made of triangles (a
 polygon would be split along an arbitrary diagonal, so its shape would
 depend on the reader) and be manifold along its edges.
@@ -15,6 +16,7 @@ import pymeshlab
 
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
+from beeoptics.io.meshcheck import check_mesh_file
 
 
 def read_mesh(path, patterns=False, source=None, field=""):
@@ -29,13 +31,14 @@ def read_mesh(path, patterns=False, source=None, field=""):
     ------
     InputError
         If the file is missing or unreadable, empty, not all triangles,
-        or not edge-manifold.
+        or not edge-manifold, or as :func:`~beeoptics.io.meshcheck.check_mesh_file`.
     """
     path = Path(path)
     if not path.is_file():
         raise InputError(source or path, field, f"no such mesh file {path}")
     if path.stat().st_size == 0:
         raise InputError(path, "faces", "the file is empty: the mesh has no faces")
+    check_mesh_file(path)
     ms = pymeshlab.MeshSet()
     try:
         ms.load_new_mesh(str(path))
