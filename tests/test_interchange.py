@@ -235,7 +235,7 @@ def test_an_eye_in_other_units_than_named_is_refused(tmp_path, table):
     write_compoundray_eye(path, table, units="m")
     with pytest.raises(InputError) as e:
         read_compoundray_eye(path)
-    assert e.value.field == "x, y, z" and "give the file's units" in str(e.value) and str(path) in str(e.value)
+    assert e.value.field == "x, y, z" and "in other units" in str(e.value) and str(path) in str(e.value)
     assert len(read_compoundray_eye(path, units="m").id) == len(table.id)
 
 

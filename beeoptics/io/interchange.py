@@ -102,7 +102,7 @@ from pathlib import Path
 import numpy as np
 import open3d as o3d
 
-from beeoptics.headframe import EYE_SIZE_MM, SIDES
+from beeoptics.headframe import SIDES
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, ReceptorTable, checked
@@ -166,6 +166,7 @@ def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_co
     length = np.linalg.norm(values[:, 3:6], axis=1)
     _refuse(path, line, length == 0.0, "direction", "has zero length; an ommatidium needs an axis")
     _refuse(path, line, values[:, 6] < 0.0, EYE_FIELDS[6], "is negative")
+    _refuse(path, line, values[:, 6] > np.pi, EYE_FIELDS[6], "is wider than π radians; no ommatidium sees that much")
     _refuse(path, line, values[:, 7] < 0.0, EYE_FIELDS[7],
             "is negative; CompoundRay starts rays this far behind the lens")
     # The file holds row vectors e = R h, so h = e R.
@@ -177,19 +178,13 @@ def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_co
         sides = np.where(key < 0.0, SIDES[0], SIDES[1])
     else:
         sides = np.full(n, side)
-    for s in SIDES:
-        mine = position[sides == s]
-        size = np.ptp(mine, axis=0).max() if len(mine) > 1 else EYE_SIZE_MM[0]
-        if not EYE_SIZE_MM[0] <= size <= EYE_SIZE_MM[1]:
-            raise InputError(path, "x, y, z", f"the {s} eye is {size:.3g} mm across read in units {units!r}; "
-                             f"bee eyes are {EYE_SIZE_MM[0]:g}–{EYE_SIZE_MM[1]:g} mm: give the file's units")
-    return ReceptorTable(
+    return checked(ReceptorTable(
         id=np.arange(n), side=sides, position=position, axis=axis,
         facet_diameter_um=np.full(n, np.nan if facet_diameter_um is None else float(facet_diameter_um)),
         delta_phi_deg=np.full(n, np.nan if delta_phi_deg is None else float(delta_phi_deg)),
         delta_rho_deg=np.degrees(values[:, 6]) / factor,
         focal_offset_mm=values[:, 7] / scale,
-    )
+    ), path)
 
 
 def write_compoundray_eye(path, table, side=None, units="mm", frame="camera", angle_convention="fwhm",

@@ -3,12 +3,18 @@
 pymeshlab and libigl trust a mesh's indices: a face that names a vertex past
 the last one crashes them (a segmentation fault, a corrupted heap) or is
 dropped without a word. So a mesh file is first read here with meshio
-(OBJ, PLY, OFF, STL; pure Python and numpy) or, for glTF, from its JSON
-and buffers, and every vertex and index is checked: coordinates finite,
-indices within the vertices, no face repeating a vertex or of zero area.
-A file meshio cannot parse (a binary PLY cut short, an OBJ face of texture
-or normal indices only) is refused with its message. Faces and vertices
-are counted from 1, in the file's order.
+(PLY, OFF, STL; pure Python and numpy), for glTF from its JSON and buffers,
+and for OBJ line by line, and every vertex and index is checked:
+coordinates finite, indices within the vertices (and, in an OBJ, within
+its texture coordinates and normals), no face repeating a vertex or of zero
+area. A file that cannot be parsed (a binary PLY cut short, an OBJ face of
+texture or normal indices only) is refused with the parser's message.
+Faces and vertices are counted from 1, in the file's order.
+
+MeshLab's OBJ reader and this one need not split a line alike (a vertex
+line that starts with a tab is one MeshLab skips), so an OBJ is handed to
+pymeshlab as the canonical text read here (:func:`canonical_obj`): one
+statement a line, single spaces, the material library by its full path.
 
 References
 ----------
@@ -27,7 +33,7 @@ import numpy as np
 from beeoptics.io.errors import InputError
 
 #: File suffixes meshio reads, and its name for each format.
-MESHIO_FORMATS = {".obj": "obj", ".ply": "ply", ".off": "off", ".stl": "stl"}
+MESHIO_FORMATS = {".ply": "ply", ".off": "off", ".stl": "stl"}
 #: glTF accessor component types of indices and positions: numpy type (glTF 2.0 §5.1.3).
 GLTF_COMPONENTS = {5121: np.uint8, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 #: glTF primitive mode of triangles (glTF 2.0 §5.24.2), the default.
@@ -46,7 +52,9 @@ def check_mesh_file(path):
         vertex, a face of zero area.
     """
     path = Path(path)
-    vertices, faces = _gltf(path) if path.suffix.lower() in (".gltf", ".glb") else _meshio(path)
+    suffix = path.suffix.lower()
+    vertices, faces = (_gltf(path) if suffix in (".gltf", ".glb") else _obj(path)[:2] if suffix == ".obj"
+                       else _meshio(path))
     if len(vertices) == 0 and len(faces) == 0:
         raise InputError(path, "", "cannot read mesh: it holds no vertices and no faces")
     bad = np.flatnonzero(~np.isfinite(vertices).all(1))
@@ -64,7 +72,8 @@ def check_mesh_file(path):
     if repeated.size:
         raise InputError(path, f"face {repeated[0] + 1}", "names one vertex twice")
     corner = vertices[faces]
-    area = np.linalg.norm(np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]), axis=1)
+    with np.errstate(over="ignore", invalid="ignore"):  # coordinates near the float limit: an infinite area
+        area = np.linalg.norm(np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0]), axis=1)
     flat = np.flatnonzero(area == 0.0)
     if flat.size:
         raise InputError(path, f"face {flat[0] + 1}", "has zero area: its corners lie on one line")
@@ -75,7 +84,7 @@ def _meshio(path):
     kind = MESHIO_FORMATS.get(path.suffix.lower())
     if kind is None:
         raise InputError(path, "", f"unknown mesh format {path.suffix!r}; use "
-                         + ", ".join([*MESHIO_FORMATS, ".gltf", ".glb"]))
+                         + ", ".join([".obj", *MESHIO_FORMATS, ".gltf", ".glb"]))
     try:
         mesh = meshio.read(path, file_format=kind)
     except Exception as e:  # meshio raises what its parsers meet: ValueError, IndexError, its own ReadError
@@ -86,6 +95,61 @@ def _meshio(path):
     faces = [c.data for c in mesh.cells if c.type == "triangle"]
     return (np.asarray(mesh.points, float).reshape(-1, 3),
             np.concatenate(faces).astype(np.int64) if faces else np.zeros((0, 3), np.int64))
+
+
+def _obj(path):
+    """Vertices, triangles and the canonical statements of an OBJ file (Wavefront, as MeshLab reads it)."""
+    try:
+        text = path.read_text()
+    except UnicodeDecodeError:
+        raise InputError(path, "", "cannot read mesh: not a text file") from None
+    counts = {"v": 0, "vt": 0, "vn": 0}
+    vertices, faces, statements = [], [], []
+    for number, line in enumerate(text.splitlines(), 1):
+        words = line.split("#", 1)[0].split()
+        if not words:
+            continue
+        key, args = words[0], words[1:]
+        try:
+            if key in counts:
+                values = [float(a) for a in args]
+                if len(values) < (2 if key == "vt" else 3):
+                    raise ValueError(f"{key} needs {2 if key == 'vt' else 3} numbers")
+                if key == "v":
+                    vertices.append(values[:3])
+                counts[key] += 1
+            elif key == "f":
+                corners = [_obj_corner(a, counts) for a in args]
+                if len(corners) != 3:
+                    raise InputError(path, "faces", f"faces must be triangles; found faces with [{len(corners)}] sides")
+                faces.append(corners)
+        except InputError:
+            raise
+        except ValueError as e:
+            raise InputError(path, f"line {number}", f"cannot read mesh: {e}") from None
+        if key == "mtllib":
+            args = [str(path.parent.joinpath(" ".join(args)).resolve())]
+        statements.append(" ".join([key, *args]))
+    return (np.asarray(vertices, float).reshape(-1, 3), np.asarray(faces, np.int64).reshape(-1, 3),
+            "\n".join(statements) + "\n")
+
+
+def _obj_corner(word, counts):
+    """The 0-based vertex index of a face corner ``v``, ``v/vt``, ``v//vn`` or ``v/vt/vn``."""
+    parts = word.split("/")
+    if len(parts) > 3 or not parts[0]:
+        raise ValueError(f"face corner {word!r} has no vertex index")
+    for part, key in zip(parts, ("v", "vt", "vn")):
+        if part and not 1 <= int(part) <= counts[key]:
+            if key == "v":
+                return int(part) - 1 if int(part) > 0 else int(part)  # named by check_mesh_file
+            raise ValueError(f"face corner {word!r} names {key} {part}, but {counts[key]} came before it")
+    return int(parts[0]) - 1
+
+
+def canonical_obj(path):
+    """The checked statements of an OBJ file, for pymeshlab to read (see the module notes)."""
+    return _obj(Path(path))[2]
 
 
 def _gltf(path):

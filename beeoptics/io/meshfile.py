@@ -8,6 +8,7 @@ polygon would be split along an arbitrary diagonal, so its shape would
 depend on the reader) and be manifold along its edges.
 """
 
+import tempfile
 from pathlib import Path
 
 import igl
@@ -16,7 +17,7 @@ import pymeshlab
 
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
-from beeoptics.io.meshcheck import check_mesh_file
+from beeoptics.io.meshcheck import canonical_obj, check_mesh_file
 
 
 def read_mesh(path, patterns=False, source=None, field=""):
@@ -41,7 +42,13 @@ def read_mesh(path, patterns=False, source=None, field=""):
     check_mesh_file(path)
     ms = pymeshlab.MeshSet()
     try:
-        ms.load_new_mesh(str(path))
+        if path.suffix.lower() == ".obj":
+            with tempfile.TemporaryDirectory() as folder:
+                canonical = Path(folder) / path.name
+                canonical.write_text(canonical_obj(path))
+                ms.load_new_mesh(str(canonical))
+        else:
+            ms.load_new_mesh(str(path))
     except pymeshlab.PyMeshLabException as e:
         # pymeshlab's message spans several lines and repeats the path; keep one line.
         detail = " ".join(str(e).replace(str(path), path.name).split())

@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from beeoptics.headframe import SIDES
+from beeoptics.headframe import EYE_SIZE_MM, SIDES
 from beeoptics.io.errors import InputError
 from beeoptics.io.table import read_table, write_table
 
@@ -86,8 +86,10 @@ def checked(table, path):
 
     A receptor needs a finite position, an axis of finite, non-zero length,
     a positive, finite acceptance angle and a side of :data:`~beeoptics.headframe.SIDES`;
-    ids must be whole and unique. Δφ and the facet diameter may be missing
-    (NaN): nothing is traced with them.
+    ids must be whole and unique; each eye must be of a size bee eyes have
+    (:data:`~beeoptics.headframe.EYE_SIZE_MM`), or its positions are in other
+    units than millimetres (all at one point is a pinhole eye, and allowed). Δφ and the facet diameter may be missing (NaN):
+    nothing is traced with them.
 
     Raises
     ------
@@ -110,6 +112,13 @@ def checked(table, path):
     ):
         if bad.any():
             raise InputError(path, column, f"receptor {_first(ids, bad)}: {message}")
+    for side in SIDES:
+        mine = table.position[np.asarray(table.side).astype(str) == side]
+        size = np.ptp(mine, axis=0).max() if len(mine) else 0.0
+        # All receptors at one point (size 0) is a pinhole eye, a deliberate model.
+        if size != 0.0 and not EYE_SIZE_MM[0] <= size <= EYE_SIZE_MM[1]:
+            raise InputError(path, "x, y, z", f"the {side} eye is {size:.3g} mm across; bee eyes are "
+                             f"{EYE_SIZE_MM[0]:g}–{EYE_SIZE_MM[1]:g} mm, so its positions are in other units")
     # Axes of unit length as far as the file's nine digits go are kept bit for bit.
     unit = np.abs(length - 1.0) <= 1e-6
     return table._replace(axis=np.where(unit[:, None], table.axis, table.axis / length[:, None]))

@@ -62,6 +62,9 @@ def read_table(path, numeric=(), text=()):
     if not rows:
         raise InputError(path, "", "the table is empty")
     header, body = rows[0], rows[1:]
+    short = next((k for k, r in enumerate(body, 2) if len(r) != len(header)), None)
+    if short is not None:
+        raise InputError(path, f"row {short}", f"has {len(body[short - 2])} fields; the header has {len(header)}")
     for name in [*numeric, *text]:
         if name not in header:
             raise InputError(path, name, "missing column")

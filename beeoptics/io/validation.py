@@ -258,4 +258,9 @@ def load_yaml(path):
     except FileNotFoundError:
         raise InputError(path, "", "no such file") from None
     except yaml.YAMLError as e:
-        raise InputError(path, "", f"not valid YAML: {e}") from None
+        mark = getattr(e, "problem_mark", None)
+        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+        problem = getattr(e, "problem", None) or " ".join(str(e).split())
+        raise InputError(path, where, f"not valid YAML: {problem}") from None
+    except UnicodeDecodeError:
+        raise InputError(path, "", "not valid YAML: not a text file") from None
