@@ -25,7 +25,7 @@ from beeoptics.headframe import SIDES
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, write_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
-from beeoptics.pipeline.outputs import FACET_OUTPUTS, IMAGES
+from beeoptics.pipeline.outputs import COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES
 
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
 SETTINGS = {
@@ -54,6 +54,8 @@ SETTINGS = {
         ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'govardovskii' (A1 template at "
          "344/436/544 nm) or a CSV in pavo's layout of measured curves UV, B, G"),
         ("--width-px", "images.width_px", int, "width of each eye's panel in the retinal images, pixels"),
+        ("--field-width-px", "images.visual_field_width_px", int,
+         "width of the visual-field map (with --figures), pixels; its height is half of it"),
     ],
 }
 FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud"}
@@ -122,9 +124,17 @@ def _running(pid):
     return True
 
 
-def _bar(args, desc, unit):
+def _bar(args, desc, unit, total=None):
     # The delay keeps quick runs, and input refused before the work starts, free of bars.
-    return tqdm(desc=desc, unit=unit, delay=0.5, disable=args.quiet, file=sys.stderr, dynamic_ncols=True)
+    return tqdm(desc=desc, unit=unit, total=total, delay=0.5, disable=args.quiet, file=sys.stderr,
+                dynamic_ncols=True)
+
+
+def settled(first_mm, largest_mm, tolerance_mm):
+    """How far a relaxation has come, in percent: from its first move down to the tolerance, on a log scale."""
+    if largest_mm <= tolerance_mm or first_mm <= tolerance_mm:
+        return 100
+    return int(np.clip(100.0 * np.log(first_mm / largest_mm) / np.log(first_mm / tolerance_mm), 0.0, 99.0))
 
 
 def build_eye(args):
@@ -137,12 +147,16 @@ def build_eye(args):
     names = ["remeshed.ply", *FACET_OUTPUTS.values()] + ["receptors.ply"] * args.ply
     with staged(args.output, names) as tmp:
         remesh_eye(args.eye, {"remeshed": tmp / "remeshed.ply"}, edge_fraction=eye["edge_fraction"])
-        with _bar(args, "relaxing facets", " it") as bar:
+        with _bar(args, "relaxing facets", "%", total=100) as bar:
+            first = []
+
             def progress(iteration, largest_mm):
-                # The iterations needed are not known in advance: show how far from rest instead.
-                bar.set_postfix_str(f"largest move {largest_mm * 1e3:.3g} µm (stops below {eye['tolerance_um']:g})",
-                                    refresh=False)
-                bar.update(iteration + 1 - bar.n)
+                # The iterations needed are not known in advance; the largest move falls, roughly
+                # geometrically, from the first towards the tolerance: show how far it has come.
+                first[:] = first or [largest_mm]
+                bar.set_postfix_str(f"iteration {iteration + 1}, largest move {largest_mm * 1e3:.3g} µm "
+                                    f"(stops below {eye['tolerance_um']:g})", refresh=False)
+                bar.update(settled(first[0], largest_mm, eye["tolerance_um"] * 1e-3) - bar.n)
             build_facets(args.eye, tmp / "remeshed.ply", {k: tmp / name for k, name in FACET_OUTPUTS.items()},
                          tolerance_um=eye["tolerance_um"], acceptance=AcceptanceModel.from_config(eye["delta_rho"]),
                          progress=progress)
@@ -169,7 +183,9 @@ def render(args):
     if args.eye is not None:
         load_eye(args.eye)
     check_background(args.scene, background, args.scene, "materials")
-    names = ["responses.csv", "irradiance.npz", *(IMAGES.values() if args.eye is not None else ())]
+    figures = {**FIELD_MAPS, **COLOUR_FIGURES} if args.figures else {}
+    names = ["responses.csv", "irradiance.npz", *(IMAGES.values() if args.eye is not None else ()),
+             *figures.values()]
     with staged(args.output, names) as tmp:
         with _bar(args, "tracing", " receptors") as bar:
             def progress(done, total):
@@ -184,6 +200,14 @@ def render(args):
             images.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in IMAGES.items()},
                                   width_px=config["images"]["width_px"])
+        if args.figures:
+            images.visual_field_maps(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz", None,
+                                     {key: tmp / name for key, name in FIELD_MAPS.items()},
+                                     width_px=config["images"]["visual_field_width_px"])
+            images.colour_figures(tmp / "responses.csv", tmp / "irradiance.npz",
+                                  {key: tmp / name for key, name in COLOUR_FIGURES.items()},
+                                  title=f"{Path(args.receptors).stem} in {Path(args.scene).parent.name}",
+                                  receptor_curves=config["colour"]["sensitivities"])
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
@@ -246,6 +270,17 @@ def convert(args):
     print(f"{args.output}: {written} receptors")
 
 
+def _readable(value):
+    """A value of a YAML file as text: numbers as written, pairs as ranges, mappings as "key value" lists."""
+    if isinstance(value, dict):
+        return ", ".join(f"{k.replace('_', ' ')} {_readable(v)}" for k, v in value.items() if k != "source")
+    if isinstance(value, (list, tuple)):
+        if len(value) == 2 and all(isinstance(v, (int, float)) for v in value):
+            return f"{value[0]:g} to {value[1]:g}"
+        return "(" + ", ".join(_readable(v) for v in value) + ")"
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
 def _stats(values):
     v = np.asarray(values, float)
     v = v[np.isfinite(v)]
@@ -281,15 +316,14 @@ def info(args):
         print(f"mesh: {eye.mesh_path}, {len(vertices)} vertices, {len(faces)} faces, "
               f"{np.ptp(vertices, axis=0).max():.3g} mm across")
         print(f"placement: axis azimuth {p['axis_azimuth_deg']}°, elevation {p['axis_elevation_deg']}°, "
-              f"roll {p['roll_deg']}°, origin {p['origin_mm']} mm")
+              f"roll {p['roll_deg']}°, origin {_readable(p['origin_mm'])} mm")
         for a in eye.anchors:
             print(f"anchor {a['name']}: {a['diameter_um']} µm at azimuth {a['azimuth_deg']}°, "
                   f"elevation {a['elevation_deg']}°")
         for section in ("optics", "published"):
             for key, value in doc.get(section, {}).items():
                 if key != "source":
-                    value = {k: v for k, v in value.items() if k != "source"} if isinstance(value, dict) else value
-                    print(f"{section}.{key}: {value}")
+                    print(f"{section} {key.replace('_', ' ')}: {_readable(value)}")
         return
     scene = load_scene(path, grid(**schema_defaults()["spectral"]))
     data = validate(data, "scene", path)
@@ -297,8 +331,9 @@ def info(args):
     print(f"scene: {scene.name}")
     sun = f"sun at elevation {light['sun_elevation_deg']}°, azimuth {light['sun_azimuth_deg']}°"
     print(f"light: {light['sky']} sky, turbidity {light['turbidity']}, {sun if light['sun'] else 'no sun'}")
-    print(f"eye: at {head['position_m']} m, heading {head['heading_deg']}°, pitch {head['pitch_deg']}°")
-    print(f"camera: at {cam['position_m']} m looking at {cam['look_at_m']} m, {cam['vertical_fov_deg']}° high, "
+    print(f"eye: at {_readable(head['position_m'])} m, heading {head['heading_deg']}°, pitch {head['pitch_deg']}°")
+    print(f"camera: at {_readable(cam['position_m'])} m looking at {_readable(cam['look_at_m'])} m, "
+          f"{cam['vertical_fov_deg']}° high, "
           f"{cam['width_px']} × {cam['height_px']} px" + ("" if "camera" in data else " (default: the bee's view)"))
     print(f"materials: {', '.join(scene.material_names)}")
     for o in scene.objects:
@@ -376,6 +411,9 @@ def parser():
                    "(without it, only responses.csv and irradiance.npz are written)")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path, help="folder for responses.csv, "
                    "irradiance.npz and the images " + ", ".join(IMAGES.values()))
+    p.add_argument("--figures", action="store_true", help="also write the visual field of both eyes ("
+                   + ", ".join(FIELD_MAPS.values()) + ") and the colour-space figures ("
+                   + ", ".join(COLOUR_FIGURES.values()) + ")")
     p.add_argument("--threads", type=_count, default=os.cpu_count(),
                    help="batches traced at once; the result is the same for any number (default: %(default)s, "
                    "the machine's cores)")

@@ -151,6 +151,10 @@ def test_info_describes_eyes_scenes_and_receptors(built, tmp_path, capsys):
     assert code == 0 and "right 300, left 300" in out and "facet diameter, µm: not given" in out
     code, out, _ = call(capsys, "info", FLOWER)
     assert code == 0 and "materials: centre, tip, leaf" in out and "object flower" in out
+    # Readable text, not Python's reprs of lists and mappings.
+    for path in (EYE, ROOT / "eyes" / "drone" / "eye.yaml", FLOWER):
+        code, out, _ = call(capsys, "info", path)
+        assert code == 0 and not set("[]{}'") & set(out), out
 
 
 def missing_mesh(tmp_path, built):
@@ -301,3 +305,19 @@ def test_help_and_version_load_none_of_the_heavy_libraries():
     assert result.stdout.strip() == ""
     version = subprocess.run([str(TOOL), "--version"], capture_output=True, text=True)
     assert version.returncode == 0 and version.stdout.strip() == "beeoptics 0.1.0"
+
+
+def test_render_can_write_the_visual_field_and_colour_space_figures(built, tmp_path, capsys):
+    out = tmp_path / "out"
+    code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, out, "--figures",
+                                             "--field-width-px", "90"))
+    assert code == 0, err
+    for name in ("visual_field.png", "visual_field.exr", "triangle.png", "hexagon.png"):
+        assert (out / name).stat().st_size > 0, name
+
+
+def test_relaxation_progress_runs_from_the_first_move_to_the_tolerance():
+    assert cli.settled(1.0, 1.0, 0.01) == 0
+    assert cli.settled(1.0, 0.1, 0.01) == 50
+    assert cli.settled(1.0, 0.0101, 0.01) == 99
+    assert cli.settled(1.0, 0.005, 0.01) == 100

@@ -11,5 +11,5 @@ __all__, __getattr__ = exports(__name__, {
     "images": ("colour_figures", "retinal_images", "sensitivity_figure", "visual_field_maps"),
     "sweeps": ("sweep_summary", "variant_light", "variant_trace", "variants", "with_delta_rho"),
     "logs": ("logging_to",),
-    "outputs": ("FACET_OUTPUTS", "IMAGES"),
+    "outputs": ("COLOUR_FIGURES", "FACET_OUTPUTS", "FIELD_MAPS", "IMAGES"),
 })

@@ -55,7 +55,7 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
     """Both eyes' visual field in azimuth and elevation, beside the human view.
 
     Writes ``figure`` (PNG: map3 and map2 on the sphere, the binocular
-    overlap outlined, the human render beside them) and ``exr``
+    overlap outlined, the human render beside them if ``human_png`` is given) and ``exr``
     (equirectangular catches ``UV``, ``B``, ``G`` and ``eyes``, the bits of
     the eyes that see each direction: 1 right, 2 left, 3 both; zero catches
     where none sees).
@@ -68,8 +68,9 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
         "bee colours (map3: UV→R, B→B, G→G)": np.where(seen[..., None], encode(paint(field, colours), scale), np.nan),
         "human colours on the bee's geometry (map2)": paint(field, srgb),
     }
-    figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, read_image(human_png)[0][..., :3],
-                         outputs["figure"], "visual field of both eyes, equirectangular")
+    human = None if human_png is None else read_image(human_png)[0][..., :3]
+    figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, human, outputs["figure"],
+                         "visual field of both eyes, equirectangular")
     catches = np.nan_to_num(paint(field, q), nan=0.0)
     write_exr(outputs["exr"], np.concatenate([catches, field.eyes[..., None].astype(float)], -1),
               (*RECEPTORS, "eyes"))

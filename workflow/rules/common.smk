@@ -3,14 +3,14 @@
 from pathlib import Path
 
 from beeoptics.pipeline import sweeps
-from beeoptics.pipeline.outputs import IMAGES as RETINAL_IMAGES
+from beeoptics.pipeline.outputs import COLOUR_FIGURES, FIELD_MAPS, IMAGES as RETINAL_IMAGES
 from beeoptics.vision.sensitivity import TEMPLATE
 
 EYES_DIR = Path(config["eyes_dir"])
 SCENES_DIR = Path(config["scenes_dir"])
 
 # Images written for every eye and scene: the retinal plane's, the visual field's, the colour spaces'.
-IMAGES = [*RETINAL_IMAGES.values(), "visual_field.png", "visual_field.exr", "triangle.png", "hexagon.png"]
+IMAGES = [*RETINAL_IMAGES.values(), *FIELD_MAPS.values(), *COLOUR_FIGURES.values()]
 
 
 wildcard_constraints:
