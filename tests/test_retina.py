@@ -49,3 +49,19 @@ def test_normalised_density_of_a_uniform_field_is_flat():
     # The raw estimate follows receptor density; the normalised one does not.
     assert np.std(raw[inner]) / np.mean(raw[inner]) > 0.1
     np.testing.assert_allclose(flat[inner], 1.0, rtol=1e-9)
+
+
+def test_map3_shows_a_white_surface_white_and_the_dark_apart_from_outside(tmp_path):
+    from beeoptics.images.display import bee_colours, encode
+    from beeoptics.io.imagefile import read_image, write_png
+
+    wl = np.arange(300.0, 701.0, 5.0)
+    white_q = np.array([[2.0, 5.0, 9.0], [4.0, 10.0, 18.0]])
+    # A white surface through each receptor catches what white does: (1, 1, 1), white.
+    _, colours, _ = bee_colours(white_q, white_q, wl, np.ones((2, len(wl))))
+    np.testing.assert_allclose(encode(colours), 1.0)
+    # A receptor that caught nothing is black; no receptor at all (NaN) is transparent.
+    write_png(tmp_path / "two.png", encode(np.array([[[0.0, 0.0, 0.0], [np.nan, np.nan, np.nan]]])))
+    pixels, channels = read_image(tmp_path / "two.png")
+    assert channels == ["R", "G", "B", "A"]
+    np.testing.assert_array_equal(pixels[0], [[0, 0, 0, 1], [0, 0, 0, 0]])

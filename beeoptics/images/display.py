@@ -1,10 +1,16 @@
 """Showing bee catches to people: Collins's map3 and map2, and the display encoding.
 
 map3 (Collins §4.4) shows the UV, B and G catches as red, blue and green,
-so that equal catches are grey to white; map2 shows each receptor's light in
-its human colour (CIE 1931, sRGB) on the bee's geometry. Both are a
-visualisation, not what the bee perceives. One exposure for all three
-channels keeps their relative responses.
+"a white sum on the display when all channels are at unity". Unity is the
+catch of a white Lambertian surface under the scene's sky and sun, through
+the same receptor: each channel is divided by it (von Kries adaptation to
+white), so a white surface in the scene's light is white, a grey one grey,
+and a colour shows how its catches stand against white's. map2 shows each
+receptor's light in its human colour (CIE 1931, sRGB) on the bee's
+geometry, the 99.5th percentile of luminance as white. Both are a
+visualisation, not what the bee perceives. Where no eye sees, values are
+NaN, which images show transparent, so that a receptor that caught no
+light (black) stands apart from the space outside the eye.
 """
 
 import colour
@@ -12,7 +18,7 @@ import numpy as np
 
 from beeoptics.vision.human import srgb, tristimulus
 
-#: Percentile of the catches (and of luminance for map2) shown at full brightness.
+#: Percentile of the luminance map2 shows as white.
 EXPOSURE_PERCENTILE = 99.5
 
 
@@ -21,32 +27,33 @@ def map3(uv, b, g):
     return np.stack([uv, g, b], -1)
 
 
-def encode(linear, scale):
-    """Linear values to sRGB-encoded display values in [0, 1], ``scale`` at full brightness; NaN black."""
-    v = np.nan_to_num(np.asarray(linear) / scale, nan=0.0)
-    return colour.cctf_encoding(np.clip(v, 0.0, 1.0), function="sRGB")
+def encode(linear, scale=1.0):
+    """Linear values to sRGB-encoded display values in [0, 1], ``scale`` at full brightness; NaN kept."""
+    return colour.cctf_encoding(np.clip(np.asarray(linear) / scale, 0.0, 1.0), function="sRGB")
 
 
-def bee_colours(catches, wavelengths_nm, radiance):
-    """map3 colours and their exposure, and map2's display sRGB, of each receptor.
+def bee_colours(catches, white_catches, wavelengths_nm, radiance):
+    """Each receptor's catches relative to white, its map3 colour, and map2's display sRGB.
 
     Parameters
     ----------
-    catches : ndarray (n, 3)
-        UV, B, G catches.
+    catches, white_catches : ndarray (n, 3)
+        UV, B, G catches of each receptor, and what it would catch of a
+        white Lambertian surface under the scene's light.
     wavelengths_nm : ndarray
     radiance : ndarray (n, n_wavelengths)
         Each receptor's mean spectral radiance.
 
     Returns
     -------
+    relative : ndarray (n, 3)
+        Catches over white's: 1 is white.
     map3 : ndarray (n, 3)
         Linear RGB.
-    exposure : float
-        The catch shown at full brightness.
     map2 : ndarray (n, 3)
         Display-encoded sRGB.
     """
+    relative = np.asarray(catches) / np.asarray(white_catches)
     xyz = tristimulus(wavelengths_nm, radiance)
-    return (map3(catches[:, 0], catches[:, 1], catches[:, 2]), np.percentile(catches, EXPOSURE_PERCENTILE),
+    return (relative, map3(relative[:, 0], relative[:, 1], relative[:, 2]),
             srgb(xyz, np.percentile(xyz[:, 1], EXPOSURE_PERCENTILE)))

@@ -38,8 +38,18 @@ def _write(path, pixels, fmt, channel_names=None, **attributes):
 
 
 def write_png(path, rgb):
-    """Write an image given as floats in [0, 1] (display-encoded) as 8-bit PNG."""
-    _write(path, np.rint(np.clip(rgb, 0.0, 1.0) * 255.0).astype(np.uint8), oiio.UINT8)
+    """Write an image given as floats in [0, 1] (display-encoded) as 8-bit PNG.
+
+    Pixels that are NaN (where there is nothing to show) are written
+    transparent, with an alpha channel, so that no value of the image can
+    be mistaken for them.
+    """
+    pixels = np.asarray(rgb, float)
+    pixels = pixels[..., None] if pixels.ndim == 2 else pixels
+    empty = np.isnan(pixels).any(-1, keepdims=True)
+    if empty.any():
+        pixels = np.concatenate([np.where(empty, 0.0, pixels), (~empty).astype(float)], -1)
+    _write(path, np.rint(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8), oiio.UINT8)
 
 
 def write_exr(path, data, channel_names):

@@ -23,11 +23,12 @@ from beeoptics.vision.catches import photon_flux
 from beeoptics.vision.sensitivity import LAMBDA_MAX_APIS, RECEPTORS, TEMPLATE, overall_sensitivity, sensitivities
 
 def _responses(responses_csv, irradiance_npz, columns=()):
-    """The responses table, its catches (n, 3), and every receptor's map3 colour, exposure and map2 colour."""
+    """The responses table, the irradiance file, and every receptor's catches relative to white,
+    map3 colour and map2 colour (:func:`beeoptics.images.display.bee_colours`)."""
     resp = read_table(responses_csv, numeric=["id", *RECEPTORS, *columns], text=["side"])
-    q = np.column_stack([resp[r] for r in RECEPTORS])
     data = np.load(irradiance_npz)
-    return resp, q, data, bee_colours(q, data["wavelength_nm"], data["radiance"])
+    catches = np.column_stack([resp[r] for r in RECEPTORS])
+    return resp, data, bee_colours(catches, data["white_q"], data["wavelength_nm"], data["radiance"])
 
 
 def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, width_px=400):
@@ -37,18 +38,20 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
     """
     eye = load_eye(eye_file)
     table = read_receptors(receptors_csv)
-    _, q, _, (colours, scale, srgb) = _responses(responses_csv, irradiance_npz)
+    resp, _, (relative, colours, srgb) = _responses(responses_csv, irradiance_npz)
+    catches = np.column_stack([resp[r] for r in RECEPTORS])
     xy = retinal_plane(eye, table.position, table.side)
     can = canvas(xy, width_px)
-    write_png(outputs["voronoi_map3"], encode(voronoi(can, xy, table.side, colours), scale))
+    write_png(outputs["voronoi_map3"], encode(voronoi(can, xy, table.side, colours)))
     dens = density(can, xy, table.side, colours, normalise=False)
+    # Summed rather than averaged colours: shown to their own 99.5th percentile, to show the artefact.
     write_png(outputs["density_map3"], encode(dens, np.nanpercentile(dens, 99.5)))
-    write_png(outputs["density_map3_normalised"], encode(density(can, xy, table.side, colours, normalise=True), scale))
+    write_png(outputs["density_map3_normalised"], encode(density(can, xy, table.side, colours, normalise=True)))
     for k, name in enumerate(("channel_uv", "channel_b", "channel_g")):
-        write_png(outputs[name], encode(voronoi(can, xy, table.side, q[:, k]), scale)[..., 0])
+        write_png(outputs[name], encode(voronoi(can, xy, table.side, relative[:, k]))[..., 0])
     # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
-    write_png(outputs["voronoi_map2"], np.nan_to_num(voronoi(can, xy, table.side, srgb), nan=0.0))
-    write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table.side, q), nan=0.0), RECEPTORS)
+    write_png(outputs["voronoi_map2"], voronoi(can, xy, table.side, srgb))
+    write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table.side, catches), nan=0.0), RECEPTORS)
 
 
 def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, outputs, *, width_px=720):
@@ -61,18 +64,20 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
     where none sees).
     """
     table = read_receptors(receptors_csv)
-    _, q, _, (colours, scale, srgb) = _responses(responses_csv, irradiance_npz)
+    resp, _, (_, colours, srgb) = _responses(responses_csv, irradiance_npz)
+    catches = np.column_stack([resp[r] for r in RECEPTORS])
     field = visual_field(table.axis, table.side, table.delta_rho_deg, width_px)
     seen = field.receptor >= 0
     panels = {
-        "bee colours (map3: UV→R, B→B, G→G)": np.where(seen[..., None], encode(paint(field, colours), scale), np.nan),
+        "bee colours (map3: UV→R, B→B, G→G, white = 1)": np.where(seen[..., None], encode(paint(field, colours)),
+                                                                  np.nan),
         "human colours on the bee's geometry (map2)": paint(field, srgb),
     }
     human = None if human_png is None else read_image(human_png)[0][..., :3]
     figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, human, outputs["figure"],
                          "visual field of both eyes, equirectangular")
-    catches = np.nan_to_num(paint(field, q), nan=0.0)
-    write_exr(outputs["exr"], np.concatenate([catches, field.eyes[..., None].astype(float)], -1),
+    painted = np.nan_to_num(paint(field, catches), nan=0.0)
+    write_exr(outputs["exr"], np.concatenate([painted, field.eyes[..., None].astype(float)], -1),
               (*RECEPTORS, "eyes"))
 
 
@@ -85,7 +90,7 @@ def colour_figures(responses_csv, irradiance_npz, outputs, *, title="", receptor
     and sun, and is adapted to the same background as the receptors.
     ``outputs`` maps ``triangle`` and ``hexagon`` to PNG paths.
     """
-    resp, _, data, (_, _, srgb) = _responses(responses_csv, irradiance_npz, ["tri_x", "tri_y", "hex_x", "hex_y"])
+    resp, data, (_, _, srgb) = _responses(responses_csv, irradiance_npz, ["tri_x", "tri_y", "hex_x", "hex_y"])
     wl = data["wavelength_nm"]
     white = photon_flux(data["white_radiance"], wl).sum()
     locus = colourspace.spectral_locus(sensitivities(wl, receptor_curves), wl, data["background_q"], white)

@@ -135,9 +135,12 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
     write_table(outputs["responses"], {"id": table.id, "side": table.side,
                                        **{r: catches[:, k] for k, r in enumerate(RECEPTORS)},
                                        "brightness": brightness, **colour_coordinates(seen, reference)})
+    # What each receptor would catch of the white surface: map3's unity.
+    white_q = quantum_catches(white[None] * acceptance_solid_angle(table.delta_rho_deg)[:, None], sens, wl)
     with atomic_path(outputs["irradiance"]) as tmp:
         np.savez(tmp, id=table.id, wavelength_nm=wl, radiance=radiance.astype(np.float32),
-                 irradiance=irradiance.astype(np.float32), background_q=reference, white_radiance=white)
+                 irradiance=irradiance.astype(np.float32), background_q=reference, white_radiance=white,
+                 white_q=white_q)
 
 
 def human_view(scene_file, outputs, *, spectral, settings):
