@@ -66,9 +66,11 @@ def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
     n = len(streams)
     first_samples = np.zeros(n, np.int64) if first_samples is None else np.asarray(first_samples)
     base = np.empty((n, samples, 2))
+    halton = qmc.Halton(2, scramble=True, seed=np.random.default_rng(seed))
     for start in np.unique(first_samples):
-        halton = qmc.Halton(2, scramble=True, seed=np.random.default_rng(seed))
-        halton.fast_forward(int(start))
+        # The Halton sequence is computed from a point's index: start there. (scipy's
+        # fast_forward would draw and discard the points before it, a cost that grows with it.)
+        halton.num_generated = int(start)
         base[first_samples == start] = halton.random(samples)
     shift = np.stack([uniform(seed, streams, np.zeros(n, np.int64), d) for d in dimensions], -1)
     return (base + shift[:, None, :]) % 1.0
