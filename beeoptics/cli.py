@@ -97,12 +97,15 @@ def staged(outdir, names):
     """
     outdir = Path(outdir)
     created = not outdir.exists()
-    outdir.mkdir(parents=True, exist_ok=True)
-    for old in outdir.glob(f"{SCRATCH_PREFIX}*"):
-        pid = old.name.removeprefix(SCRATCH_PREFIX).split("-")[0]
-        if pid.isdigit() and not _running(int(pid)):
-            shutil.rmtree(old, ignore_errors=True)
-    scratch = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-", dir=outdir))
+    try:
+        outdir.mkdir(parents=True, exist_ok=True)
+        for old in outdir.glob(f"{SCRATCH_PREFIX}*"):
+            pid = old.name.removeprefix(SCRATCH_PREFIX).split("-")[0]
+            if pid.isdigit() and not _running(int(pid)):
+                shutil.rmtree(old, ignore_errors=True)
+        scratch = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-", dir=outdir))
+    except OSError as e:
+        raise InputError(outdir, "", f"cannot write there ({e.strerror})") from None
     try:
         yield scratch
         for name in names:

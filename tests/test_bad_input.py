@@ -386,7 +386,9 @@ def test_an_unknown_material_is_named_with_the_object_that_uses_it(tmp_path, gri
     scene_file = write_scene(tmp_path / "scene.yaml", scene)
     with pytest.raises(InputError) as e:
         load_scene(scene_file, grid)
-    assert "'leef'" in assert_names(e, scene_file, "objects.0.material")
+    message = assert_names(e, scene_file, "objects.0.material")
+    assert "'leef'" in message and f"object {scene['objects'][0]['name']!r}" in message
+    assert "did you mean 'leaf'?" in message
 
 
 def test_an_unknown_eye_class_in_the_config_is_named(tmp_path):

@@ -321,3 +321,12 @@ def test_relaxation_progress_runs_from_the_first_move_to_the_tolerance():
     assert cli.settled(1.0, 0.1, 0.01) == 50
     assert cli.settled(1.0, 0.0101, 0.01) == 99
     assert cli.settled(1.0, 0.005, 0.01) == 100
+
+
+def test_an_output_folder_that_cannot_be_written_is_named(built, tmp_path, capsys):
+    blocker = tmp_path / "a file"
+    blocker.write_text("not a folder\n")
+    code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, blocker / "out"))
+    assert code == 2 and err.strip() == f"beeoptics: error: {blocker / 'out'}: cannot write there (Not a directory)"
+    code, _, err = call(capsys, "convert", built / "receptors.csv", blocker / "eye.eye")
+    assert code == 1 and err.strip() == f"beeoptics: error: [Errno 17] {blocker}: cannot write there (File exists)"

@@ -20,8 +20,12 @@ def atomic_path(path):
     choose a format by extension.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    except OSError as e:
+        # Name the folder asked for, not the temporary file's name.
+        raise OSError(e.errno, f"{path.parent}: cannot write there ({e.strerror})") from None
     os.close(fd)
     # mkstemp makes the file private; an artifact gets the permissions open() would give it.
     umask = os.umask(0)

@@ -12,6 +12,7 @@ with one material, or a pattern: face colours mapped to materials by a
 to materials (per texel).
 """
 
+import difflib
 from pathlib import Path
 from typing import NamedTuple
 
@@ -76,11 +77,18 @@ def _hex(colours):
     return np.array([f"#{r:02x}{g:02x}{b:02x}" for r, g, b in rgb])
 
 
-def _palette_ids(colours, palette, names, source, field):
+def _unknown_material(name, names, source, field, user):
+    """The error for a material the scene does not define, naming who asked for it, with a suggestion."""
+    close = difflib.get_close_matches(name, names, n=1)
+    return InputError(source, field, f"{user} asks for material {name!r}, which the scene does not define; "
+                      + (f"did you mean {close[0]!r}?" if close else f"its materials: {', '.join(names)}"))
+
+
+def _palette_ids(colours, palette, names, source, field, user):
     lookup = {k.lower(): v for k, v in palette.items()}
     for m in lookup.values():
         if m not in names:
-            raise InputError(source, field, f"unknown material {m!r}")
+            raise _unknown_material(m, names, source, field, user)
     hexes = _hex(colours)
     missing = sorted(set(hexes) - set(lookup))
     if missing:
@@ -110,21 +118,22 @@ def _object(spec, base, names, source, index):
     name = spec.get("name", f"object {index}")
     if "material" in spec:
         if spec["material"] not in names:
-            raise InputError(source, f"{field}.material", f"unknown material {spec['material']!r}")
+            raise _unknown_material(spec["material"], names, source, f"{field}.material", f"object {name!r}")
         return SceneObject(name, v, f, np.full(len(f), names.index(spec["material"]), np.int32), None, None)
     if "palette" in spec:
         if colours is None:
             raise InputError(base / spec.get("mesh", ""), "faces",
                              "a palette needs one colour per face (OBJ: a material per face; "
                              "glTF: a material per primitive)")
-        return SceneObject(name, v, f, _palette_ids(colours, spec["palette"], names, source, f"{field}.palette"),
+        return SceneObject(name, v, f, _palette_ids(colours, spec["palette"], names, source, f"{field}.palette",
+                                                    f"object {name!r}"),
                            None, None)
     if "texture" in spec:
         if uv is None:
             raise InputError(base / spec.get("mesh", ""), "faces", "a texture needs texture coordinates in the mesh")
         pixels = read_image(base / spec["texture"]["image"])[0][:, :, :3]
         ids = _palette_ids(pixels.reshape(-1, 3), spec["texture"]["palette"], names, source,
-                           f"{field}.texture.palette")
+                           f"{field}.texture.palette", f"object {name!r}")
         return SceneObject(name, v, f, None, ids.reshape(pixels.shape[:2]), uv)
     raise InputError(source, field, "an object needs a material, a palette or a texture")
 
