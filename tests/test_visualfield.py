@@ -34,7 +34,8 @@ def test_a_map_pixel_shows_the_receptor_whose_axis_is_nearest():
     axes = fibonacci_sphere(3000)
     sides = np.where(axes[:, 1] > 0, "left", "right")
     # Δρ/2 of a spacing bridges the seam between the two eyes' lattices.
-    field = visual_field(axes, sides, np.full(len(axes), 2.0 * spacing_deg(3000)), width_px=180)
+    field = visual_field(axes, sides, np.full(len(axes), 2.0 * spacing_deg(3000)), np.full(len(axes), spacing_deg(3000)),
+                         width_px=180)
     _, _, unit = directions(180)
     assert (field.receptor >= 0).all()
     # Each eye claims its own nearest receptor; where both see, the nearer one wins.
@@ -52,7 +53,8 @@ def test_a_cap_of_axes_sees_the_cap_and_at_most_half_an_acceptance_angle_beyond(
     axes = fibonacci_sphere(40000)
     mine = cap(axes, np.array([1.0, 0.0, 0.0]), 40.0)
     drho = 1.5 * spacing_deg(40000)
-    field = visual_field(mine, np.full(len(mine), "right"), np.full(len(mine), drho), width_px=1440)
+    field = visual_field(mine, np.full(len(mine), "right"), np.full(len(mine), drho),
+                         np.full(len(mine), spacing_deg(40000)), width_px=1440)
     # The outermost axes lie within half a spacing inside the 40° rim, and the
     # discs of Δρ/2 round them scallop the border: the field lies between the
     # cap less half a spacing and the cap grown by Δρ/2.
@@ -72,7 +74,8 @@ def test_two_eyes_overlap_where_their_fields_do():
     left = right * [1.0, -1.0, 1.0]
     all_axes = np.vstack([right, left])
     sides = np.repeat(["right", "left"], [len(right), len(left)])
-    field = visual_field(all_axes, sides, np.full(len(all_axes), 2.6), width_px=720)
+    field = visual_field(all_axes, sides, np.full(len(all_axes), 2.6), np.full(len(all_axes), spacing_deg(20000)),
+                         width_px=720)
     equator = field.eyes[len(field.elevation_deg) // 2]
     az = field.azimuth_deg
     assert (equator[np.abs(az) < 8] == RIGHT | LEFT).all()

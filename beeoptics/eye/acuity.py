@@ -37,6 +37,6 @@ def acuity(table, rayleigh_nm, width_px=720):
     for receptor, lam in rayleigh_nm.items():
         for label, d in (("median", np.median(d_um)), ("largest", d_um.max())):
             row[f"rayleigh_deg_{receptor}_{label}_facet"] = rayleigh_limit_deg(lam, d)
-    field_extent = extent(visual_field(table.axis, table.side, drho, width_px))
+    field_extent = extent(visual_field(table.axis, table.side, drho, dphi, width_px))
     row.update({k: field_extent[k] for k in ("right_sr", "left_sr", "binocular_sr", "total_fraction")})
     return row

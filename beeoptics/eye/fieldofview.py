@@ -71,24 +71,26 @@ def directions(width_px):
     return az, el, direction_from_x_towards_y(*np.meshgrid(az, el))
 
 
-def within_lattice(axes, unit):
+def within_lattice(axes, delta_phi_deg, unit):
     """Whether each direction falls in a triangle of neighbouring axes of one eye.
 
     Parameters
     ----------
     axes : ndarray (n, 3)
         One eye's unit axes.
+    delta_phi_deg : ndarray (n,)
+        Each receptor's interommatidial angle.
     unit : ndarray (m, 3)
         Directions.
     """
-    tri = sphere_triangles(axes)
+    tri = sphere_triangles(axes, delta_phi_deg)
     if len(tri) == 0:
         return np.zeros(len(unit), bool)
     rays = np.hstack([np.zeros_like(unit), unit]).astype(np.float32)
     return np.isfinite(first_hits(embree_scene([(axes, tri)]), rays)["t_hit"])
 
 
-def visual_field(axes, sides, delta_rho_deg, width_px=720):
+def visual_field(axes, sides, delta_rho_deg, delta_phi_deg, width_px=720):
     """Which receptor, of which eye, sees each direction of the sphere.
 
     Parameters
@@ -99,6 +101,8 @@ def visual_field(axes, sides, delta_rho_deg, width_px=720):
         ``"left"`` or ``"right"``.
     delta_rho_deg : ndarray (n,)
         Acceptance angle of each receptor, degrees.
+    delta_phi_deg : ndarray (n,)
+        Interommatidial angle of each receptor, degrees.
     width_px : int
         Map width; the height is half of it.
 
@@ -110,6 +114,7 @@ def visual_field(axes, sides, delta_rho_deg, width_px=720):
     flat = unit.reshape(-1, 3)
     sides = np.asarray(sides)
     half_width = np.radians(np.asarray(delta_rho_deg, float)) / 2.0
+    delta_phi_deg = np.asarray(delta_phi_deg, float)
     receptor = np.full(len(flat), -1)
     best = np.full(len(flat), np.inf)
     eyes = np.zeros(len(flat), np.uint8)
@@ -119,7 +124,7 @@ def visual_field(axes, sides, delta_rho_deg, width_px=720):
             continue
         chord, k = cKDTree(axes[mine]).query(flat)
         angle = 2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0))
-        seen = (angle <= half_width[mine[k]]) | within_lattice(axes[mine], flat)
+        seen = (angle <= half_width[mine[k]]) | within_lattice(axes[mine], delta_phi_deg[mine], flat)
         eyes[seen] |= bit
         nearer = seen & (angle < best)
         receptor[nearer], best[nearer] = mine[k[nearer]], angle[nearer]

@@ -34,10 +34,11 @@ from beeoptics.raycasting import embree_scene, first_hits
 #: up to 1.5 times (Seidl 1982, as modelled by Stürzl et al. 2010) keep all
 #: their neighbours within 1.8.
 MAX_EDGE = 1.8
-#: A triangle of receptor axes with an angle wider than this, degrees, joins three facets along
-#: the rim, not neighbours: a hexagonal rim turns by 60°, so three consecutive rim facets make an
-#: angle of 120° or more, while the Delaunay triangles of our relaxed lattices' axes have their
-#: widest angle below 98–103° in 99 % of cases (worker, drone, queen, measured).
+#: Where Δφ is not known: a triangle of receptor axes with an angle wider than this, degrees,
+#: joins three facets along the rim, not neighbours. A hexagonal rim turns by 60°, so three
+#: consecutive rim facets make an angle of 120° or more, while the Delaunay triangles of our
+#: relaxed lattices' axes have their widest angle below 98–103° in 99 % of cases (worker, drone,
+#: queen, measured).
 MAX_ANGLE_DEG = 110.0
 
 
@@ -173,19 +174,23 @@ def edge_angles(axes, edges):
     return np.arccos(np.clip((axes[edges[:, 0]] * axes[edges[:, 1]]).sum(1), -1.0, 1.0))
 
 
-def sphere_triangles(axes):
+def sphere_triangles(axes, delta_phi_deg=None):
     """Spherical Delaunay triangles of unit axes, less those that span gaps rather than join neighbours.
 
     A triangle is dropped when one of its edges is longer than
-    :data:`MAX_EDGE` times the larger nearest-neighbour angle of its ends
-    (it bridges the rim of the eye, or the far side of the sphere), or when
-    one of its angles is wider than :data:`MAX_ANGLE_DEG` (it joins three
-    facets along the rim).
+    :data:`MAX_EDGE` spacings of its ends: it bridges the rim of the eye, or
+    the far side of the sphere. The spacing is the receptors' Δφ where it is
+    known (the mean of the two ends'); without it, the larger
+    nearest-neighbour angle of the two ends, which is shorter, so that three
+    facets along the rim can pass as neighbours: a triangle with an angle
+    wider than :data:`MAX_ANGLE_DEG` is then dropped too.
 
     Parameters
     ----------
     axes : ndarray, shape (n, 3)
         Unit vectors, n ≥ 4, not all in one plane.
+    delta_phi_deg : ndarray, shape (n,), optional
+        Each axis's interommatidial angle.
 
     Returns
     -------
@@ -198,10 +203,13 @@ def sphere_triangles(axes):
         If the axes cannot be triangulated.
     """
     tri = ConvexHull(axes).simplices
-    chord = cKDTree(axes).query(axes, k=2)[0][:, 1]
-    nearest = 2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0))
     corners = np.stack([tri, np.roll(tri, 1, 1)], -1).reshape(-1, 2)
     length = edge_angles(axes, corners).reshape(-1, 3)
+    if delta_phi_deg is not None:
+        limit = np.radians(MAX_EDGE * 0.5 * (delta_phi_deg[corners[:, 0]] + delta_phi_deg[corners[:, 1]]))
+        return tri[(length <= limit.reshape(-1, 3)).all(1)]
+    chord = cKDTree(axes).query(axes, k=2)[0][:, 1]
+    nearest = 2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0))
     limit = MAX_EDGE * np.maximum(nearest[corners[:, 0]], nearest[corners[:, 1]]).reshape(-1, 3)
     # The widest angle faces the longest side (law of cosines; the triangles are small).
     a, b, c = np.sort(length, axis=1).T

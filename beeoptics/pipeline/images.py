@@ -66,7 +66,7 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
     table = read_receptors(receptors_csv)
     resp, _, (_, colours, srgb) = _responses(responses_csv, irradiance_npz)
     catches = np.column_stack([resp[r] for r in RECEPTORS])
-    field = visual_field(table.axis, table.side, table.delta_rho_deg, width_px)
+    field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, width_px)
     seen = field.receptor >= 0
     panels = {
         "bee colours (map3: UV→R, B→B, G→G, white = 1)": np.where(seen[..., None], encode(paint(field, colours)),
