@@ -35,7 +35,7 @@ def test_a_run_stopped_mid_trace_completes_on_rerun_with_identical_outputs(tmp_p
         "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
         "spectral": {"step_nm": 10},
         # Enough samples that the trace runs for seconds, long enough to be stopped in.
-        "trace": {"samples_per_receptor": 4096, "depth": 2, "seed": 3, "batch_rays": 262144},
+        "trace": {"samples_per_receptor": 16384, "depth": 2, "seed": 3, "batch_rays": 262144},
         "images": {"width_px": 64, "visual_field_width_px": 90},
         "human_view": {"samples_per_pixel": 1},
     }
