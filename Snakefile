@@ -2,13 +2,22 @@
 # Stages live in workflow/rules/<stage>.smk; each calls one function of beeoptics.pipeline.
 
 import sys
+from pathlib import Path
 
 from snakemake.utils import min_version
 
 from beeoptics.io.errors import InputError
-from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.io.validation import CONFIG_SCHEMA, load_yaml, validate_config
 
 min_version("9.0")
+
+# Parsed first by our loader, so that a syntax error names the file, line and column
+# (Snakemake's own message names neither).
+try:
+    if Path("config/config.yaml").exists():
+        load_yaml("config/config.yaml")
+except InputError as e:
+    sys.exit(f"beeoptics: error: {e}")
 
 
 configfile: "config/config.yaml"

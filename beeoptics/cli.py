@@ -33,10 +33,12 @@ SETTINGS = {
         ("--edge-fraction", "eye.edge_fraction", float,
          "remeshing edge length, as a fraction of the mean facet diameter of the eye's anchors"),
         ("--tolerance-um", "eye.tolerance_um", float, "relax the facets until none would move further than this, µm"),
-        ("--delta-rho-model", "eye.delta_rho.model", str, "acceptance angle Δρ: 'fixed' (--delta-rho-deg "
-         "everywhere) or 'snyder' (from each facet's diameter and the eye's rhabdom width)"),
+        ("--delta-rho-model", "eye.delta_rho.model", str, "acceptance angle Δρ: 'measured' (the eye's own "
+         "measurements, spread over it; --delta-rho-deg where it has none), 'fixed' (--delta-rho-deg everywhere) "
+         "or 'snyder' (from each facet's diameter and the eye's rhabdom width)"),
         ("--delta-rho-deg", "eye.delta_rho.fixed_deg", float,
-         "Δρ of the fixed model, degrees (full width at half maximum)"),
+         "Δρ of the fixed model, and of the measured one for eyes without measurements, degrees (full width "
+         "at half maximum)"),
         ("--wavelength-nm", "eye.delta_rho.wavelength_nm", float,
          "wavelength of the snyder model's diffraction term, nm"),
     ],
@@ -51,8 +53,9 @@ SETTINGS = {
         ("--step-nm", "spectral.step_nm", float, "spacing of the spectral grid, nm"),
         ("--background", "colour.background", str, "von Kries adapting background: 'scene' (the mean catch of all "
          "receptors) or a material of the scene (a Lambertian surface under its sky and sun)"),
-        ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'govardovskii' (A1 template at "
-         "344/436/544 nm) or a CSV in pavo's layout of measured curves UV, B, G"),
+        ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'peitsch1992' (measured, Peitsch et "
+         "al. 1992, the default), 'govardovskii' (A1 template at 344/436/544 nm) or a CSV in pavo's layout of "
+         "measured curves UV, B, G"),
         ("--width-px", "images.width_px", int, "width of each eye's panel in the retinal images, pixels"),
         ("--field-width-px", "images.visual_field_width_px", int,
          "width of the visual-field map (with --figures), pixels; its height is half of it"),
@@ -187,6 +190,7 @@ def render(args):
         load_eye(args.eye)
     check_background(args.scene, background, args.scene, "materials")
     figures = {**FIELD_MAPS, **COLOUR_FIGURES} if args.figures else {}
+    title = f"{Path(args.receptors).stem} in {Path(args.scene).parent.name}"
     names = ["responses.csv", "irradiance.npz", *(IMAGES.values() if args.eye is not None else ()),
              *figures.values()]
     with staged(args.output, names) as tmp:
@@ -202,15 +206,14 @@ def render(args):
         if args.eye is not None:
             images.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in IMAGES.items()},
-                                  width_px=config["images"]["width_px"])
+                                  width_px=config["images"]["width_px"], title=title)
         if args.figures:
             images.visual_field_maps(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz", None,
                                      {key: tmp / name for key, name in FIELD_MAPS.items()},
                                      width_px=config["images"]["visual_field_width_px"])
             images.colour_figures(tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in COLOUR_FIGURES.items()},
-                                  title=f"{Path(args.receptors).stem} in {Path(args.scene).parent.name}",
-                                  receptor_curves=config["colour"]["sensitivities"])
+                                  title=title, receptor_curves=config["colour"]["sensitivities"])
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
@@ -306,6 +309,8 @@ def info(args):
         for label, column in (("facet diameter, µm", t.facet_diameter_um), ("Δφ, degrees", t.delta_phi_deg),
                               ("Δρ, degrees", t.delta_rho_deg)):
             print(f"{label}: {_stats(column)}")
+        if t.dorsal_rim is not None:
+            print(f"dorsal rim area: {int(np.sum(t.dorsal_rim))} receptors, microvilli at {_stats(t.microvilli_deg)}°")
         return
     data = load_yaml(path)
     if isinstance(data, dict) and {"mesh", "placement", "facets", "facet_diameter"} & set(data):
@@ -320,13 +325,20 @@ def info(args):
               f"{np.ptp(vertices, axis=0).max():.3g} mm across")
         print(f"placement: axis azimuth {p['axis_azimuth_deg']}°, elevation {p['axis_elevation_deg']}°, "
               f"roll {p['roll_deg']}°, origin {_readable(p['origin_mm'])} mm")
+        print(f"axes: {eye.axis_model}" + (" (the measured field, beeoptics.eye.axismodel)"
+                                              if eye.axis_model == "field" else " (interpolated corneal normals)"))
         for a in eye.anchors:
             print(f"anchor {a['name']}: {a['diameter_um']} µm at azimuth {a['azimuth_deg']}°, "
                   f"elevation {a['elevation_deg']}°")
-        for section in ("optics", "published"):
+        for a in eye.delta_rho_anchors:
+            print(f"measured Δρ {a['name']}: {a['delta_rho_deg']}° at azimuth {a['azimuth_deg']}°, "
+                  f"elevation {a['elevation_deg']}°")
+        if eye.dorsal_rim is not None:
+            print(f"dorsal rim area: {eye.dorsal_rim['count']} facets")
+        for section in ("shape", "optics", "published"):
             for key, value in doc.get(section, {}).items():
-                if key != "source":
-                    print(f"{section} {key.replace('_', ' ')}: {_readable(value)}")
+                if key not in ("source", "delta_rho_anchors"):
+                    print(f"{section} {key.replace('_', ' ')}: {_readable(value) or 'compared'}")
         return
     scene = load_scene(path, grid(**schema_defaults()["spectral"]))
     data = validate(data, "scene", path)

@@ -99,6 +99,15 @@ def eye_rotation(azimuth_deg, elevation_deg, roll_deg=0.0):
     return np.stack([x, y, z])
 
 
+def in_eye_plane(rotation):
+    """The head's anterior and dorsal directions in an eye's local xy-plane, unit 2-vectors (2, 2).
+
+    ``rotation`` is the eye's (:func:`eye_rotation`); rows: anterior, dorsal.
+    """
+    planar = (np.asarray(rotation) @ np.eye(3)[:, [0, 2]])[:2].T
+    return planar / np.linalg.norm(planar, axis=1, keepdims=True)
+
+
 def mirror(points):
     """Mirror head-frame points or vectors through the sagittal (xz) plane."""
     out = np.array(points, float, copy=True)

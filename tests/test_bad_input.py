@@ -453,6 +453,16 @@ def dry_run_refuses(tmp_path, cfg):
     return result.stdout + result.stderr
 
 
+def test_a_syntax_error_in_the_workflow_config_names_its_line_and_column(tmp_path):
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "config.yaml").write_text("eyes: [worker\nscenes: [meadow]\n")
+    result = subprocess.run(
+        [str(Path(sys.executable).with_name("snakemake")), "-n", "--directory", str(tmp_path),
+         "--snakefile", str(ROOT / "Snakefile")], capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    assert result.returncode != 0
+    assert "config/config.yaml: line 2, column 7: not valid YAML" in result.stderr + result.stdout
+
+
 def test_a_dry_run_with_an_unknown_eye_class_stops_naming_the_config_key(tmp_path):
     cfg = default_config()
     cfg["eyes"] = ["nonexistent"]
@@ -562,6 +572,21 @@ def test_a_receptor_table_with_a_nonpositive_acceptance_angle_is_refused(tmp_pat
     with pytest.raises(InputError) as e:
         read_receptors(path)
     assert_names(e, path, "delta_rho_deg")
+
+
+@pytest.mark.parametrize("rim, angle, column", [([1, 2], [30.0, ""], "dorsal_rim"),
+                                                ([1, 0], ["", ""], "microvilli_deg"),
+                                                ([1, 0], [180.0, ""], "microvilli_deg")],
+                         ids=["not-0-or-1", "rim-without-angle", "angle-out-of-range"])
+def test_a_receptor_tables_dorsal_rim_columns_are_checked(tmp_path, rim, angle, column):
+    path = tmp_path / "receptors.csv"
+    write_table(path, {"id": [0, 1], "side": ["right", "left"], "x": [0.0, 0.0], "y": [1.0, -1.0],
+                       "z": [0.0, 0.0], "ax": [0.0, 0.0], "ay": [1.0, -1.0], "az": [0.0, 0.0],
+                       "facet_diameter_um": [20.0, 20.0], "delta_phi_deg": [2.0, 2.0],
+                       "delta_rho_deg": [2.6, 2.6], "dorsal_rim": rim, "microvilli_deg": angle})
+    with pytest.raises(InputError) as e:
+        read_receptors(path)
+    assert_names(e, path, column)
 
 
 def test_the_optics_refuse_a_nonpositive_acceptance_angle_or_sample_count():

@@ -8,7 +8,8 @@ import pytest
 
 from beeoptics.vision.colourspace import (COC_WEIGHTS, HEXAGON_VERTICES, TRIANGLE_VERTICES, coc, coc_distance,
                                           colour_coordinates, excitation, hexagon, hexagon_polar, hexagon_sector, neural_noise,
-                                   reflectance_catches, rnl_distance, spectral_locus, triangle, von_kries)
+                                   reflectance_catches, rnl_distance, spectral_locus, triangle, von_kries,
+                                   widest_spectral_locus)
 from beeoptics.vision.sensitivity import measured_sensitivities, receptor_sensitivities
 from beeoptics.spectra import read_pavo_csv
 from beeoptics.io.table import read_table
@@ -208,6 +209,17 @@ def test_spectral_locus_stays_inside_and_runs_uv_to_green(wavelengths):
     nearest = np.argmin(np.linalg.norm(locus.triangle[:, None] - TRIANGLE_VERTICES, axis=2), axis=1)
     at = dict(zip(wavelengths, nearest))
     assert (at[300.0], at[440.0], at[650.0]) == (0, 1, 2)
+
+
+def test_the_widest_locus_puts_each_light_as_far_out_as_any_searched_intensity(wavelengths):
+    s = receptor_sensitivities(wavelengths)
+    qb = reflectance_catches(np.full(len(wavelengths), 0.2), np.ones(len(wavelengths)), s, wavelengths)
+    widest, intensity = widest_spectral_locus(s, wavelengths, qb, 3.0)
+    radius = np.hypot(*widest.hexagon.T)
+    for k in (1e-2, 1.0, 1e2):
+        assert (radius >= np.hypot(*spectral_locus(s, wavelengths, qb, 3.0 * k).hexagon.T) - 1e-12).all()
+    np.testing.assert_allclose(widest.hexagon, spectral_locus(s, wavelengths, qb, 3.0 * intensity).hexagon)
+    np.testing.assert_allclose(widest.triangle, spectral_locus(s, wavelengths, qb, 3.0).triangle)
 
 
 # pavo's documented hexagon example: vismodel(flowers, visual = "apis", qcatch = "Ei", relative = FALSE,

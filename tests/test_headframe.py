@@ -28,3 +28,14 @@ def test_eye_rotation_is_orthonormal_and_points_its_z_along_the_axis():
 
 def test_mirror_flips_y_only():
     np.testing.assert_array_equal(mirror([[1.0, 2.0, 3.0]]), [[1.0, -2.0, 3.0]])
+
+
+def test_a_sideways_eye_has_anterior_along_x_and_dorsal_along_y_in_its_plane():
+    from beeoptics.headframe import eye_rotation, in_eye_plane
+
+    anterior, dorsal = in_eye_plane(eye_rotation(90.0, 0.0))
+    np.testing.assert_allclose(anterior, [1.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(dorsal, [0.0, 1.0], atol=1e-12)
+    # Rolled by 30 degrees about its axis, the head's directions turn the other way in the eye's plane.
+    anterior, _ = in_eye_plane(eye_rotation(90.0, 0.0, 30.0))
+    np.testing.assert_allclose(anterior, [np.cos(np.radians(30)), -np.sin(np.radians(30))], atol=1e-12)

@@ -1,7 +1,8 @@
 import numpy as np
 import pytest
 
-from beeoptics.eye.lattice import conformal_map, hex_grid, neighbour_counts, neighbour_edges, project_grid
+from beeoptics.eye.lattice import (conformal_map, hex_grid, kernel_mean, neighbour_counts, neighbour_edges,
+                                  project_grid)
 from beeoptics.eye.meshquery import MeshQuery
 from conftest import cap_mesh, disc_mesh
 
@@ -43,3 +44,15 @@ def test_delaunay_neighbours_of_a_hex_grid_are_six_inside():
     inside = np.linalg.norm(points[:, :2], axis=1) < 0.55
     assert boundary[np.linalg.norm(points[:, :2], axis=1) > 0.66].all()
     assert np.all(counts[inside] == 6)
+
+
+def test_the_kernel_mean_keeps_a_linear_trend_and_removes_noise():
+    points = hex_grid(1.0, (-20.0, -20.0), (20.0, 20.0))
+    trend = 0.1 * points[:, 0]
+    noise = np.random.default_rng(0).normal(0.0, 1.0, len(points))
+    smooth = kernel_mean(points, trend + noise, 3.0)
+    inner = np.abs(points).max(1) < 10.0
+    # A symmetric kernel passes a linear trend unchanged away from the edge, and averages noise
+    # over some 3·π·3² facets.
+    np.testing.assert_allclose(kernel_mean(points, trend, 3.0)[inner], trend[inner], atol=1e-9)
+    assert np.std((smooth - trend)[inner]) < 0.25

@@ -1,7 +1,7 @@
 import numpy as np
 from scipy.spatial import cKDTree
 
-from beeoptics.images.retina import canvas, density, nearest_receptor, voronoi
+from beeoptics.images.retina import canvas, density, nearest_receptor, panel_extents, voronoi
 
 
 def lattice(n=30):
@@ -65,3 +65,12 @@ def test_map3_shows_a_white_surface_white_and_the_dark_apart_from_outside(tmp_pa
     pixels, channels = read_image(tmp_path / "two.png")
     assert channels == ["R", "G", "B", "A"]
     np.testing.assert_array_equal(pixels[0], [[0, 0, 0, 1], [0, 0, 0, 0]])
+
+
+def test_panels_are_measured_in_millimetres_and_the_right_eye_mirrored():
+    xy, sides = lattice()
+    can = canvas(xy, 120)
+    (lx0, lx1, ly0, ly1), (rx0, rx1, ry0, ry1) = panel_extents(can)
+    assert lx0 < -1 < 1 < lx1 and rx0 > 1 > -1 > rx1
+    assert ly0 < -1 < 1 < ly1 and (ly0, ly1) == (ry0, ry1)
+    np.testing.assert_allclose(lx1 - lx0, 120 * can.pixel_mm)

@@ -2,8 +2,8 @@ import numpy as np
 import pytest
 from scipy.signal import argrelmax
 
-from beeoptics.vision.sensitivity import (LAMBDA_MAX_APIS, govardovskii_a1, overall_sensitivity,
-                                   receptor_sensitivities)
+from beeoptics.vision.sensitivity import (LAMBDA_MAX_APIS, PEITSCH_1992_FILE, TEMPLATE, govardovskii_a1,
+                                          overall_sensitivity, receptor_sensitivities, sensitivities)
 from beeoptics.spectra import read_pavo_csv
 
 WL = np.arange(300.0, 701.0)
@@ -39,3 +39,18 @@ def test_templates_match_the_measured_curves_of_peitsch_et_al(shared_data):
     for k in range(3):
         assert abs(wl[np.argmax(measured[:, k])] - wl[np.argmax(model[:, k])]) <= 15
         assert np.corrcoef(measured[:, k], model[:, k])[0, 1] > 0.95
+
+
+def test_the_default_curves_are_peitschs_measurements_as_pavo_ships_them(shared_data):
+    assert PEITSCH_1992_FILE.read_bytes() == (shared_data / "apis_sensitivity_peitsch1992.csv").read_bytes()
+    _, _, measured = read_pavo_csv(shared_data / "apis_sensitivity_peitsch1992.csv")
+    np.testing.assert_allclose(sensitivities(WL), measured / measured.sum(0), rtol=1e-12)
+
+
+def test_the_measured_uv_receptor_reaches_past_400_nm_where_the_template_does_not():
+    def uv_share_above_400(curves):
+        return curves[WL > 400.0, 0].sum() / curves[:, 0].sum()
+
+    # Measured: 6.0 % of the UV receptor's sensitivity lies above 400 nm; the template: 0.2 %.
+    assert uv_share_above_400(sensitivities(WL)) == pytest.approx(0.060, abs=0.003)
+    assert uv_share_above_400(sensitivities(WL, TEMPLATE)) == pytest.approx(0.002, abs=0.001)

@@ -51,7 +51,7 @@ def test_every_artifact_is_written(workdir):
     eye = workdir / "results" / "eyes" / "tiny"
     for name in ("remeshed.ply", "receptors.csv", "quality.json", "relaxation.npz",
                  "figures/relaxation.png", "figures/delta_phi.png", "figures/facet_diameter.png",
-                 "figures/acceptance.png"):
+                 "figures/acceptance.png", "figures/field_of_view.png"):
         assert (eye / name).stat().st_size > 0
     for name in ("eyes/acuity.csv", "figures/sensitivities.png"):
         assert (workdir / "results" / name).stat().st_size > 0

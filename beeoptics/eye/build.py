@@ -2,7 +2,10 @@
 
 Collins §4.1: the hexagonal grid is projected onto the remeshed eye with the
 count rule, relaxed over the surface to follow the facet-diameter map, and
-each facet becomes a receptor whose axis is the interpolated surface normal.
+each facet becomes a receptor whose axis is the interpolated surface normal
+(axis model ``normals``) or, for eyes of real size, the direction the
+field model gives its place in the lattice (``field``,
+:mod:`beeoptics.eye.axismodel`).
 
 The relaxation is a long chain of steps, each depending on the last, so a
 difference in the last bit of one sum grows into another lattice. OpenBLAS
@@ -17,13 +20,17 @@ from typing import NamedTuple
 
 import igl
 import numpy as np
+from scipy.spatial import cKDTree
 from threadpoolctl import threadpool_limits
 
+from beeoptics.eye.axismodel import field_axes
+from beeoptics.eye.dorsalrim import dorsal_rim, rim_summary
 from beeoptics.eye.facetmap import anchor_vertices, diameter_map
 from beeoptics.eye.lattice import conformal_map, project_grid
 from beeoptics.eye.meshquery import MeshQuery
 from beeoptics.eye.optics import acceptance_angles
-from beeoptics.eye.quality import lattice_quality, optics_quality, published_checks, zone_contrast
+from beeoptics.eye.quality import (anisotropy, field_match, lattice_quality, optics_quality, published_checks, size,
+                                   zone_contrast)
 from beeoptics.eye.receptors import delta_phi, receptor_table, to_head
 from beeoptics.eye.relax import relax
 
@@ -67,23 +74,32 @@ def build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress=
 
 def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress):
     query = MeshQuery(vertices, faces)
-    sources = anchor_vertices(normals @ eye.rotation, eye.anchors)
+    points, point_faces, pitch = project_grid(query, eye.facet_count)
+    if eye.axis_model == "field":
+        # Before relaxation the projected grid stands for the facets, evenly spread and as many:
+        # each anchor goes to the mesh vertex nearest the grid point that looks its way.
+        grid_axes = field_axes(eye.rotation, points, np.ones(len(points)), points, pitch)
+        sources = cKDTree(vertices).query(points[anchor_vertices(grid_axes @ eye.rotation, eye.anchors)])[1]
+    else:
+        sources = anchor_vertices(normals @ eye.rotation, eye.anchors)
     diameters = diameter_map(vertices, faces, sources, [a["diameter_um"] * 1e-3 for a in eye.anchors],
                              eye.diameter_power)
-    points, point_faces, pitch = project_grid(query, eye.facet_count)
     start = time.perf_counter()
     result = relax(query, conformal_map(vertices, faces), diameters, points, point_faces, tolerance_um * 1e-3,
                    progress=progress)
     seconds = time.perf_counter() - start
 
     points, edges = result.points, result.edges
-    axes = query.interpolate(normals, points, result.faces)
-    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    if eye.axis_model == "field":
+        spacing = np.median(np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1))
+        axes = field_axes(eye.rotation, points, np.ones(len(points)), points, spacing)
+    else:
+        axes = query.interpolate(normals, points, result.faces)
+        axes /= np.linalg.norm(axes, axis=1, keepdims=True)
     facet_um = query.interpolate(diameters, points, result.faces) * 1e3
     dphi = delta_phi(axes, edges)
-    drho = acceptance_angles(facet_um, acceptance, eye.rhabdom_acceptance_deg)
-
     points_head, axes_head = to_head(eye, points, axes)
+    drho = acceptance_angles(facet_um, acceptance, eye.rhabdom_acceptance_deg, axes_head, eye.delta_rho_anchors)
     chord = np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1)
     lattice = lattice_quality(edges, result.boundary, result.geodesic, chord, facet_um)
     eye_optics = optics_quality(axes_head, dphi, facet_um, points_head)
@@ -92,7 +108,15 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         spec = eye.published["acute_zone"]
         anchor = next(a for a in eye.anchors if a["name"] == spec["anchor"])
         zone = zone_contrast(axes_head, dphi, facet_um, anchor, spec["radius_deg"])
+    rim = None
+    if eye.dorsal_rim is not None:
+        rim = dorsal_rim(points, axes_head, vertices[igl.boundary_loop(faces)], eye.rotation, eye.dorsal_rim["count"])
     count = len(points)
+    sizes = size(vertices, faces, eye.rotation, count, facet_um)
+    field = None
+    if "field_model" in eye.published:
+        field = {"coverage": field_match(axes_head, drho, dphi),
+                 "anisotropy": anisotropy(points, axes_head, edges, eye.rotation)}
     quality = {
         "eye": eye.name,
         "facets_per_eye": count,
@@ -108,8 +132,11 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         "lattice": lattice,
         "optics": eye_optics,
         "acute_zone": zone,
+        "size": sizes,
+        "field": field,
+        "dorsal_rim": None if rim is None else rim_summary(axes_head, *rim),
         "published": dict(eye.published),
-        "checks": published_checks(eye, count, lattice, eye_optics, zone),
+        "checks": published_checks(eye, count, lattice, eye_optics, zone, field, sizes),
     }
     snapshots = [p for _, p in result.snapshots]
     relaxation = {
@@ -120,4 +147,4 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         "facet_diameter_um": facet_um,
         "boundary_xy": vertices[igl.boundary_loop(faces), :2],
     }
-    return BuiltEye(receptor_table(eye, points, axes, facet_um, dphi, drho), quality, relaxation)
+    return BuiltEye(receptor_table(eye, points, axes, facet_um, dphi, drho, rim), quality, relaxation)

@@ -26,7 +26,9 @@ class EyeDescription(NamedTuple):
     and ``origin`` is its local origin in the head frame, mm. ``anchors``
     are the facet-diameter anchors (``name``, ``azimuth_deg``,
     ``elevation_deg``, ``diameter_um``), spread with Shepard's exponent
-    ``diameter_power``. ``published`` holds the published optics the eye is
+    ``diameter_power``. ``axis_model`` names where the receptors' axes come
+    from, ``"normals"`` or ``"field"`` (:mod:`beeoptics.eye.axismodel`); ``dorsal_rim``, if
+    given, how many facets form the dorsal rim area. ``published`` holds the published optics the eye is
     checked against, ``document`` the whole checked file, defaults filled in.
     """
 
@@ -40,6 +42,9 @@ class EyeDescription(NamedTuple):
     anchors: list
     diameter_power: float
     rhabdom_acceptance_deg: float
+    axis_model: str
+    dorsal_rim: dict
+    delta_rho_anchors: list
     published: dict
     document: dict
 
@@ -61,6 +66,8 @@ def load_eye(path):
         facet_count=doc["facets"]["count"], facet_count_sd=doc["facets"].get("sd"),
         anchors=doc["facet_diameter"]["anchors"], diameter_power=doc["facet_diameter"]["power"],
         rhabdom_acceptance_deg=doc.get("optics", {}).get("rhabdom_acceptance_deg", RHABDOM_ACCEPTANCE_DEG),
+        axis_model=doc["axes"]["model"], dorsal_rim=doc.get("dorsal_rim"),
+        delta_rho_anchors=doc.get("optics", {}).get("delta_rho_anchors", []),
         published=doc.get("published", {}), document=doc,
     )
 

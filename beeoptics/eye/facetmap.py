@@ -21,12 +21,12 @@ from beeoptics.headframe import eye_direction
 
 
 def anchor_vertices(normals, anchors):
-    """Mesh vertices whose normals point closest to each anchor's direction.
+    """The points (mesh vertices, say) whose directions point closest to each anchor's direction.
 
     Parameters
     ----------
     normals : ndarray, shape (n, 3)
-        Vertex normals in the head frame, for the right eye.
+        Vertex normals, or the points' visual axes, in the head frame, for the right eye.
     anchors : sequence of dict
         Each with ``azimuth_deg`` and ``elevation_deg``.
     """

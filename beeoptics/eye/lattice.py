@@ -169,6 +169,30 @@ def mean_over_edges(edges, values, n):
     return np.where(count > 0, total / np.maximum(count, 1), np.nan)
 
 
+def kernel_mean(points, values, sigma):
+    """Gaussian-kernel average of per-facet values at each facet (Nadaraya 1964; Watson 1964).
+
+    Parameters
+    ----------
+    points : ndarray (n, d)
+        Facet positions, mm.
+    values : ndarray (n,)
+    sigma : float
+        The kernel's standard deviation, mm; facets beyond 3σ are left out.
+
+    Returns
+    -------
+    ndarray (n,)
+    """
+    tree = cKDTree(points)
+    pairs = tree.sparse_distance_matrix(tree, 3.0 * sigma, output_type="coo_matrix")
+    weight = np.exp(-0.5 * (pairs.data / sigma) ** 2)
+    n = len(points)
+    # The zero self-distances are not stored: each facet's own weight, 1, is added back.
+    sums = np.bincount(pairs.row, weight * np.asarray(values)[pairs.col], n) + values
+    return sums / (np.bincount(pairs.row, weight, n) + 1.0)
+
+
 def edge_angles(axes, edges):
     """Angle between the unit axes at the ends of each edge, radians."""
     return np.arccos(np.clip((axes[edges[:, 0]] * axes[edges[:, 1]]).sum(1), -1.0, 1.0))

@@ -28,6 +28,15 @@ class MeshQuery:
         )
         self.area = float(igl.doublearea(self.vertices, self.faces).sum() / 2.0)
         self._corner = self.vertices[self.faces[:, 0]]
+        # Each face's dual basis: barycentric coordinates of a point p in the face's plane are
+        # (1 − s − t, s, t) with (s, t) = dual · (p − corner), the relaxation's most frequent query.
+        e1 = self.vertices[self.faces[:, 1]] - self._corner
+        e2 = self.vertices[self.faces[:, 2]] - self._corner
+        d11, d12, d22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+        det = (d11 * d22 - d12 * d12)[:, None]
+        dual = np.hstack([(d22[:, None] * e1 - d12[:, None] * e2) / det, (d11[:, None] * e2 - d12[:, None] * e1) / det])
+        # Corner, normal and dual basis side by side: one gather per point, the relaxation's hot path.
+        self._frame = np.ascontiguousarray(np.hstack([self._corner, self.face_normals, dual]))
         # libigl's edge k of a face runs from corner k to corner k+1.
         self._open_edge = igl.triangle_triangle_adjacency(self.faces)[0] < 0
 
@@ -46,10 +55,14 @@ class MeshQuery:
         looked up in the AABB tree. Same contract as :meth:`project`, for
         moves shorter than a triangle.
         """
-        corner = self._corner[faces]
-        normal = self.face_normals[faces]
-        onto = points - ((points - corner) * normal).sum(1, keepdims=True) * normal
-        left = (self.barycentric(onto, faces) < 0.0).any(1)
+        frame = self._frame[faces]
+        relative = points - frame[:, :3]
+        normal = frame[:, 3:6]
+        relative -= np.einsum("kj,kj->k", relative, normal)[:, None] * normal
+        s = np.einsum("kj,kj->k", frame[:, 6:9], relative)
+        t = np.einsum("kj,kj->k", frame[:, 9:12], relative)
+        left = (s < 0.0) | (t < 0.0) | (s + t > 1.0)
+        onto = frame[:, :3] + relative
         faces = np.array(faces)
         if left.any():
             onto[left], faces[left] = self.project(points[left])
@@ -60,14 +73,12 @@ class MeshQuery:
         return self._open_edge[faces].any(1)
 
     def barycentric(self, points, faces):
-        """Barycentric coordinates of points within their faces, shape (k, 3)."""
-        t = self.vertices[self.faces[faces]]
-        return igl.barycentric_coordinates(
-            np.ascontiguousarray(points, dtype=np.float64),
-            np.ascontiguousarray(t[:, 0]),
-            np.ascontiguousarray(t[:, 1]),
-            np.ascontiguousarray(t[:, 2]),
-        )
+        """Barycentric coordinates of points (in their faces' planes) within their faces, shape (k, 3)."""
+        frame = self._frame[faces]
+        relative = np.asarray(points, float) - frame[:, :3]
+        s = np.einsum("kj,kj->k", frame[:, 6:9], relative)
+        t = np.einsum("kj,kj->k", frame[:, 9:12], relative)
+        return np.column_stack([1.0 - s - t, s, t])
 
     def interpolate(self, values, points, faces):
         """Per-vertex ``values`` interpolated linearly at points on the mesh."""

@@ -16,7 +16,12 @@ diameter D through Snyder's
 
 with the rhabdom's angular width d/f = 1.7° for workers (Somanathan et al.
 2009, Table 1, after Greiner et al. 2004) and λ = 500 nm (the wavelength
-Land 1990 and Collins use for the bee's diffraction limit).
+Land 1990 and Collins use for the bee's diffraction limit), or is
+measured: an eye description may give Δρ measured in named regions
+(``optics.delta_rho_anchors``), spread over the receptors by Shepard's
+inverse-distance weighting of the angles between their axes and the
+anchors' directions (:func:`measured_delta_rho`); an eye without such
+measurements keeps the fixed value.
 
 The acceptance function's solid angle, π Δρ²/(4 ln 2), turns a receptor's
 acceptance-weighted mean radiance into its irradiance. The eye's resolving
@@ -50,6 +55,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from beeoptics.headframe import eye_direction
+
 #: 4 ln 2, the "2.77" of Snyder's Gaussian.
 FOUR_LN2 = 4.0 * np.log(2.0)
 #: Acceptance angle of worker photoreceptors, degrees (Laughlin & Horridge 1971).
@@ -63,10 +70,12 @@ RAYLEIGH_FACTOR = 1.22
 
 
 class AcceptanceModel(NamedTuple):
-    """How each receptor's acceptance angle Δρ is set: ``model`` "fixed" or "snyder".
+    """How each receptor's acceptance angle Δρ is set: ``model`` "fixed", "snyder" or "measured".
 
     "fixed" gives every receptor ``fixed_deg``; "snyder" takes Δρ from the
-    facet diameter at ``wavelength_nm`` (:func:`snyder_delta_rho`).
+    facet diameter at ``wavelength_nm`` (:func:`snyder_delta_rho`);
+    "measured" spreads the eye's measured values (:func:`measured_delta_rho`),
+    ``fixed_deg`` for an eye without any.
     """
 
     model: str = "fixed"
@@ -97,8 +106,33 @@ def snyder_delta_rho(facet_diameter_um, wavelength_nm=SNYDER_WAVELENGTH_NM,
     return np.sqrt(diffraction**2 + rhabdom_deg**2)
 
 
-def acceptance_angles(facet_diameter_um, model=AcceptanceModel(), rhabdom_deg=RHABDOM_ACCEPTANCE_DEG):
-    """Per-receptor acceptance angle Δρ, degrees, by an :class:`AcceptanceModel`."""
+def measured_delta_rho(axes_head, anchors, power=2.0):
+    """Δρ measured in named regions, spread over the receptors by Shepard's weighting of angles, degrees.
+
+    Parameters
+    ----------
+    axes_head : ndarray (n, 3)
+        The right eye's receptor axes, head frame.
+    anchors : sequence of dict
+        Each with ``azimuth_deg``, ``elevation_deg`` (the right eye's
+        convention) and ``delta_rho_deg``.
+    """
+    directions = eye_direction([a["azimuth_deg"] for a in anchors], [a["elevation_deg"] for a in anchors])
+    values = np.array([a["delta_rho_deg"] for a in anchors], float)
+    angle = np.arccos(np.clip(np.asarray(axes_head) @ directions.T, -1.0, 1.0))
+    with np.errstate(divide="ignore"):
+        weight = angle ** -power
+    exact = np.isinf(weight)
+    weight[exact.any(1)] = exact[exact.any(1)]
+    return (weight * values).sum(1) / weight.sum(1)
+
+
+def acceptance_angles(facet_diameter_um, model=AcceptanceModel(), rhabdom_deg=RHABDOM_ACCEPTANCE_DEG,
+                      axes_head=None, anchors=()):
+    """Per-receptor acceptance angle Δρ, degrees, by an :class:`AcceptanceModel`.
+
+    ``axes_head`` and ``anchors`` (the eye's measured Δρ) serve the "measured" model.
+    """
     for name, value in (("fixed_deg", model.fixed_deg), ("wavelength_nm", model.wavelength_nm),
                         ("rhabdom_deg", rhabdom_deg)):
         if not np.isfinite(value) or value <= 0:
@@ -107,7 +141,11 @@ def acceptance_angles(facet_diameter_um, model=AcceptanceModel(), rhabdom_deg=RH
         return np.full(np.shape(facet_diameter_um), float(model.fixed_deg))
     if model.model == "snyder":
         return snyder_delta_rho(facet_diameter_um, model.wavelength_nm, rhabdom_deg)
-    raise ValueError(f"unknown acceptance model {model.model!r}; use 'fixed' or 'snyder'")
+    if model.model == "measured":
+        if len(anchors) == 0:
+            return np.full(np.shape(facet_diameter_um), float(model.fixed_deg))
+        return measured_delta_rho(axes_head, anchors)
+    raise ValueError(f"unknown acceptance model {model.model!r}; use 'fixed', 'snyder' or 'measured'")
 
 
 def acceptance_solid_angle(delta_rho_deg):

@@ -6,12 +6,15 @@ description gives published values, each comparison is also recorded as a
 pass or fail under ``checks``.
 """
 
+import igl
 import numpy as np
 from scipy.spatial import ConvexHull
 from scipy.spatial.distance import pdist
 
+from beeoptics.eye import fieldmodel
+from beeoptics.eye.fieldofview import visual_field
 from beeoptics.eye.lattice import mean_over_edges, neighbour_counts
-from beeoptics.headframe import RIGHT, eye_azimuth_elevation, eye_direction
+from beeoptics.headframe import RIGHT, eye_azimuth_elevation, eye_direction, in_eye_plane
 
 #: Half-width of the band around the equator within which the azimuthal
 #: extent of the field of view is read, degrees: about one row of facets.
@@ -86,6 +89,124 @@ def optics_quality(axes_head, dphi, facet_um, points_head):
     }
 
 
+def field_match(axes_head, delta_rho_deg, delta_phi_deg, width_px=720):
+    """How one eye's field (the right one, head frame) covers the measured field and strays beyond it.
+
+    A direction is in our field when it lies inside the lattice of axes or
+    within Δρ/2 of one (:func:`beeoptics.eye.fieldofview.visual_field`), and
+    in the measured field when :func:`beeoptics.eye.fieldmodel.inside` says
+    so; both are weighed by solid angle.
+
+    Returns
+    -------
+    dict
+        ``covered``: the share of the measured field ours covers;
+        ``outside``: the share of ours outside the measured field; both
+        solid angles, sr.
+    """
+    field = visual_field(axes_head, np.full(len(axes_head), RIGHT), delta_rho_deg, delta_phi_deg, width_px)
+    azimuth, elevation = np.meshgrid(field.azimuth_deg, field.elevation_deg)
+    # Map azimuths run towards +y; an eye's run towards its own side, -y for the right eye.
+    measured = fieldmodel.inside(-azimuth, elevation)
+    ours = field.eyes > 0
+    weight = np.broadcast_to(np.cos(np.radians(field.elevation_deg))[:, None], ours.shape)
+    pixel = (np.pi / ours.shape[0]) * (2.0 * np.pi / ours.shape[1])
+    return {
+        "covered": float(weight[ours & measured].sum() / weight[measured].sum()),
+        "outside": float(weight[ours & ~measured].sum() / weight[ours].sum()),
+        "ours_sr": float(weight[ours].sum() * pixel),
+        "measured_sr": float(weight[measured].sum() * pixel),
+    }
+
+
+def anisotropy(points, axes_head, edges, rotation):
+    """Horizontal and vertical Δφ of a lattice against the field model, and the lattice's orientation.
+
+    In the eye's plane (anterior, dorsal), an edge within 30° of the
+    horizontal joins neighbours in a row: its angle is a sample of Δφ_h.
+    The other edges join a facet to the next row, half a column step up or
+    down: twice their difference in elevation samples Δφ_v, the step to the
+    next facet of the column (:mod:`beeoptics.eye.fieldmodel`). Each
+    facet's values are the means over its edges; the model's are taken at
+    the facet's own axis.
+
+    Parameters
+    ----------
+    points : ndarray (n, 3)
+        Facets, the eye's local frame, mm.
+    axes_head : ndarray (n, 3)
+        Their axes, head frame (right eye).
+    edges : ndarray (m, 2)
+        Lattice neighbours.
+    rotation : ndarray (3, 3)
+        The eye's rotation.
+
+    Returns
+    -------
+    dict
+        Medians of ours and the model's Δφ_h and Δφ_v, the median per-facet
+        ratios and the correlations over the facets, the ratio of horizontal
+        to vertical, Δφ_v at the equator (|elevation| < 5°) and at
+        |elevation| 45–75°, and ``rows_from_horizontal_deg``, the lattice's
+        rows' angle from the head's horizontal (0 when the columns are
+        vertical, as in the bee).
+    """
+    planar = points[:, :2] @ in_eye_plane(rotation).T
+    step = planar[edges[:, 1]] - planar[edges[:, 0]]
+    direction = np.degrees(np.arctan2(step[:, 1], step[:, 0]))
+    horizontal = np.abs((direction + 90.0) % 180.0 - 90.0) < 30.0
+    azimuth, elevation = eye_azimuth_elevation(axes_head, RIGHT)
+    angle = np.degrees(np.arccos(np.clip((axes_head[edges[:, 0]] * axes_head[edges[:, 1]]).sum(1), -1.0, 1.0)))
+    n = len(points)
+    rise = 2.0 * np.abs(elevation[edges[:, 1]] - elevation[edges[:, 0]])
+    ours_h = mean_over_edges(edges[horizontal], angle[horizontal], n)
+    ours_v = mean_over_edges(edges[~horizontal], rise[~horizontal], n)
+    model_h = fieldmodel.delta_phi_horizontal(azimuth, elevation)
+    model_v = fieldmodel.delta_phi_vertical(elevation)
+    ok = np.isfinite(ours_h) & np.isfinite(ours_v)
+    equator, high = np.abs(elevation) < 5.0, (np.abs(elevation) >= 45.0) & (np.abs(elevation) <= 75.0)
+    # Hexagonal rows: six-fold symmetric, so the mean of exp(6iθ) gives their orientation.
+    rows = np.degrees(np.angle(np.exp(6j * np.radians(direction)).mean())) / 6.0
+
+    def median(values, where=ok):
+        return float(np.median(values[where]))
+
+    return {
+        "delta_phi_h_deg": {"ours": median(ours_h), "model": median(model_h),
+                            "median_ratio": median(ours_h / model_h),
+                            "correlation": float(np.corrcoef(ours_h[ok], model_h[ok])[0, 1])},
+        "delta_phi_v_deg": {"ours": median(ours_v), "model": median(model_v),
+                            "median_ratio": median(ours_v / model_v),
+                            "correlation": float(np.corrcoef(ours_v[ok], model_v[ok])[0, 1]),
+                            "equator": {"ours": median(ours_v, ok & equator), "model": median(model_v, equator)},
+                            "elevation_45_75": {"ours": median(ours_v, ok & high), "model": median(model_v, high)}},
+        "horizontal_over_vertical": {"ours": median(ours_h) / median(ours_v),
+                                     "model": median(model_h) / median(model_v)},
+        "rows_from_horizontal_deg": float(rows),
+    }
+
+
+def size(vertices, faces, rotation, facet_count, facet_um):
+    """The cornea's length, width and area, and the area its facets cover.
+
+    Length and width are the mesh's extents along the head's dorsal and
+    anterior directions in the eye's plane (as an eye is measured on a
+    photograph of the head); the facets' area is count × √3/2 × mean(D²),
+    hexagons of diameter D flat to flat.
+    """
+    planar = vertices[:, :2] @ in_eye_plane(rotation).T
+    area = 0.5 * float(igl.doublearea(vertices, faces).sum())
+    facets = float(facet_count * np.sqrt(3.0) / 2.0 * np.mean((np.asarray(facet_um) * 1e-3) ** 2))
+    return {
+        "eye_length_mm": float(np.ptp(planar[:, 1])),
+        "eye_width_mm": float(np.ptp(planar[:, 0])),
+        "corneal_area_mm2": area,
+        "facets_area_mm2": facets,
+        "mean_facet_area_um2": area / facet_count * 1e6,
+        "facet_diameter_max_um": float(np.max(facet_um)),
+    }
+
+
 def zone_contrast(axes_head, dphi, facet_um, anchor, radius_deg):
     """Facet diameter and Δφ within ``radius_deg`` of an anchor's direction, and outside it."""
     centre = eye_direction(anchor["azimuth_deg"], anchor["elevation_deg"], RIGHT)
@@ -99,9 +220,34 @@ def zone_contrast(axes_head, dphi, facet_um, anchor, radius_deg):
     }
 
 
-def published_checks(eye, count, lattice, optics, zone):
+#: Bounds on the match to the measured field (issue 12 of the project): the share of the measured
+#: field covered, of ours outside it, the median ratio of Δφ to the model's, the correlation
+#: of Δφ with the model's over the facets, and the rows' angle from the horizontal, degrees.
+FIELD_COVERED_MIN, FIELD_OUTSIDE_MAX = 0.9, 0.1
+DELTA_PHI_RATIO_TOLERANCE = 0.1
+DELTA_PHI_CORRELATION_MIN = 0.5
+ROWS_FROM_HORIZONTAL_MAX_DEG = 10.0
+
+
+def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None):
     """Pass or fail for each published bound the eye description gives."""
     out = {}
+    if field is not None:
+        out["field_covered_at_least_0.9"] = field["coverage"]["covered"] >= FIELD_COVERED_MIN
+        out["field_outside_at_most_0.1"] = field["coverage"]["outside"] <= FIELD_OUTSIDE_MAX
+        shape = field["anisotropy"]
+        for key in ("delta_phi_h_deg", "delta_phi_v_deg"):
+            out[f"{key}_median_ratio_within_10_percent"] = abs(shape[key]["median_ratio"] - 1.0) <= \
+                DELTA_PHI_RATIO_TOLERANCE
+            out[f"{key}_correlation_at_least_0.5"] = shape[key]["correlation"] >= DELTA_PHI_CORRELATION_MIN
+        ratio = shape["horizontal_over_vertical"]
+        out["horizontal_over_vertical_within_10_percent"] = abs(ratio["ours"] / ratio["model"] - 1.0) <= \
+            DELTA_PHI_RATIO_TOLERANCE
+        out["rows_horizontal_within_10_deg"] = abs(shape["rows_from_horizontal_deg"]) <= ROWS_FROM_HORIZONTAL_MAX_DEG
+    for key in ("eye_length_mm", "eye_width_mm", "corneal_area_mm2", "facet_diameter_max_um"):
+        spec = eye.published.get(key)
+        if spec and sizes is not None:
+            out[f"{key}_within_tolerance"] = abs(sizes[key] / spec["value"] - 1.0) <= spec["tolerance"]
     if eye.facet_count_sd is not None:
         out["facet_count_within_spread"] = bool(abs(count - eye.facet_count) <= eye.facet_count_sd)
     out["six_neighbour_fraction_at_least_0.85"] = lattice["six_neighbour_fraction"] >= 0.85

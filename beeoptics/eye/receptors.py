@@ -36,15 +36,21 @@ def to_head(eye, points, axes):
     return points @ eye.rotation + eye.origin, axes @ eye.rotation
 
 
-def receptor_table(eye, points, axes, facet_diameter_um, dphi, drho):
-    """The :class:`ReceptorTable` of both eyes, from the right eye's local lattice."""
+def receptor_table(eye, points, axes, facet_diameter_um, dphi, drho, rim=None):
+    """The :class:`ReceptorTable` of both eyes, from the right eye's local lattice.
+
+    ``rim``, if given, is the right eye's dorsal rim area (membership,
+    microvillar angle; :func:`beeoptics.eye.dorsalrim.dorsal_rim`); the
+    angle, measured towards the anterior, is the same on the mirrored eye.
+    """
     right_p, right_a = to_head(eye, points, axes)
     n = len(points)
+    member, angle = (None, None) if rim is None else (np.tile(rim[0], 2), np.tile(rim[1], 2))
     return ReceptorTable(
         id=np.arange(2 * n), side=np.repeat(np.array([RIGHT, LEFT]), n),
         position=np.vstack([right_p, mirror(right_p)]), axis=np.vstack([right_a, mirror(right_a)]),
         facet_diameter_um=np.tile(facet_diameter_um, 2), delta_phi_deg=np.tile(dphi, 2),
-        delta_rho_deg=np.tile(drho, 2),
+        delta_rho_deg=np.tile(drho, 2), dorsal_rim=member, microvilli_deg=angle,
     )
 
 

@@ -201,13 +201,14 @@ def relax(
         force -= (force * normal).sum(1, keepdims=True) * normal
         # The rim holds back what pushes a particle off the eye: near it, the
         # force becomes the step it can actually make, projected onto the mesh.
-        rim = np.flatnonzero(query.on_rim_face(faces))
+        on_rim = query.on_rim_face(faces)
+        rim = np.flatnonzero(on_rim)
         force[rim] = query.project(points[rim] + force[rim])[0] - points[rim]
         # A particle in a rim face whose force keeps turning round is caught in
         # a corner of the rim, where the force never vanishes: it gets its own
         # step, halved at each reversal so that it settles into the corner, and
         # is left out of FIRE's bookkeeping so that it cannot stall the rest.
-        caught = ((force * previous_force).sum(1) < 0.0) & query.on_rim_face(faces)
+        caught = ((force * previous_force).sum(1) < 0.0) & on_rim
         own_step = np.where(caught, 0.5 * own_step, np.minimum(1.0, 2.0 * own_step))
         velocity[caught] = 0.0
         previous_force = force
@@ -249,8 +250,12 @@ def relax(
             f"{largest * 1e3:.3g} µm in the last step, over the tolerance of {tolerance * 1e3:.3g} µm; "
             "a tolerance below about 0.05 µm can chase rearrangements of the lattice for long"
         )
-    edges, boundary = neighbour_edges(query.interpolate(uv, points, faces), points, MAX_EDGE * fill * target)
-    geodesic = pair_distances(query.vertices, query.faces, points, faces, edges)
+    # A spacing per particle: the lattice's mean (fill × target), or its own nearest neighbour where
+    # that is further, so that a particle at a sparse defect keeps its neighbours.
+    spacing = np.maximum(fill * target, cKDTree(points).query(points, k=2)[0][:, 1])
+    edges, boundary = neighbour_edges(query.interpolate(uv, points, faces), points, MAX_EDGE * spacing)
+    # The neighbours are springs, whose ratios are known: only the few edges that are not get measured.
+    geodesic = _geodesic_ratio(query, points, faces, edges, known)[0] * _lengths(points, edges)
     snapshots.append((iteration + 1, points.copy()))
     return Relaxation(points=points, faces=faces, edges=edges, boundary=boundary, geodesic=geodesic,
                       iterations=iteration + 1, fill_factor=fill, snapshots=snapshots)

@@ -5,7 +5,10 @@ initial projection, during relaxation and at rest, seen along the eye's z-axis
 and coloured by the target facet diameter.
 """
 
+import textwrap
+
 import numpy as np
+from matplotlib import patheffects
 from matplotlib.figure import Figure
 
 from beeoptics.eye.optics import angular_sensitivity
@@ -76,7 +79,7 @@ def eye_map(points, values, boundary_xy, path, label, title):
     lo, hi = np.percentile(values, [1, 99])
     field = ax.tripcolor(*points[:, :2].T, values, shading="gouraud", vmin=lo, vmax=hi, cmap="magma")
     fig.colorbar(field, ax=ax, label=label)
-    ax.set_title(title, fontsize=10)
+    ax.set_title(textwrap.fill(title, 60), fontsize=9)
     save(fig, path)
 
 
@@ -142,7 +145,23 @@ def angular_sensitivities(delta_rho_deg, delta_phi_deg, path, eye_name=""):
     save(fig, path)
 
 
-def colour_space(points, colours, outline, locus, path, title, labels=RECEPTORS):
+#: Spectral-locus labels closer than this, as a share of the outline's width, are merged ("550–700").
+_LABEL_GAP = 0.06
+
+
+def _locus_labels(wl, xy, width):
+    """Every 50 nm labelled; a run of labels on one spot (the locus's saturated ends) as one range."""
+    marks = [(w, p) for w, p in zip(wl, xy) if w % 50 == 0]
+    groups = []
+    for w, p in marks:
+        if groups and np.hypot(*(p - groups[-1][1])) < _LABEL_GAP * width:
+            groups[-1][2] = w
+        else:
+            groups.append([w, p, w])
+    return [(f"{a:g}" if a == b else f"{a:g}–{b:g}", p) for a, p, b in groups]
+
+
+def colour_space(points, colours, outline, locus, path, title, locus_label, labels=RECEPTORS):
     """Receptor colours in a bee colour space (Collins Fig. 5b), with the spectral locus.
 
     Parameters
@@ -150,33 +169,138 @@ def colour_space(points, colours, outline, locus, path, title, labels=RECEPTORS)
     points : ndarray (n, 2)
         Coordinates of each receptor's colour.
     colours : ndarray (n, 3)
-        sRGB in [0, 1] to draw each point with.
+        sRGB in [0, 1] to draw each point with: the human colour of its light.
     outline : ndarray (k, 2)
-        Vertices of the space's outline (triangle or hexagon), UV first.
+        Vertices of the space's outline (triangle or hexagon), UV first,
+        around the origin.
     locus : SpectralLocus-like (wavelengths, xy)
         Monochromatic lights, drawn as a line with every 50 nm labelled.
+    locus_label : str
+        The legend's words for the locus: which lights, at what intensity.
     labels : sequence of str
         Names of the receptor vertices, in the order of the first outline vertices.
     """
     wl, xy = locus
-    fig = Figure(figsize=(5.0, 5.0), constrained_layout=True)
+    fig = Figure(figsize=(5.4, 6.0), layout="constrained")
     ax = fig.subplots()
     ax.plot(*np.vstack([outline, outline[:1]]).T, color="0.5", linewidth=0.8)
     step = max(1, len(outline) // len(labels))
     for k, name in enumerate(labels):
-        ax.annotate(name, outline[k * step], xytext=(6 * np.sign(outline[k * step][0] or 1), 4),
-                    textcoords="offset points", fontsize=9, color="0.3")
-    ax.plot(*xy.T, color="k", linewidth=0.8)
-    for w, p in zip(wl, xy):
-        if w % 50 == 0:
-            ax.plot(*p, ".", color="k", markersize=3)
-            ax.annotate(f"{w:g}", p, xytext=(3, 3), textcoords="offset points", fontsize=7)
-    ax.scatter(*points.T, c=np.clip(colours, 0, 1), s=4, linewidths=0, alpha=0.7)
-    ax.plot(0, 0, "+", color="0.3")
+        vertex = outline[k * step]
+        out = vertex / np.linalg.norm(vertex)
+        ax.annotate(name, vertex, xytext=8 * out, textcoords="offset points", fontsize=10, color="0.25",
+                    ha="left" if out[0] > 0.3 else "right" if out[0] < -0.3 else "center",
+                    va="bottom" if out[1] > 0.3 else "top" if out[1] < -0.3 else "center")
+    ax.plot(*xy.T, color="k", linewidth=0.8, label=locus_label)
+    width = np.ptp(outline[:, 0])
+    for text, p in _locus_labels(wl, xy, width):
+        ax.plot(*p, ".", color="k", markersize=3)
+        ax.annotate(text, p, xytext=(3, 3), textcoords="offset points", fontsize=7)
+    ax.scatter(*points.T, c=np.clip(colours, 0, 1), s=4, linewidths=0, alpha=0.7,
+               label="each receptor's light, in its human colour (CIE 1931, sRGB)")
+    ax.plot(0, 0, "+", color="0.3", label="the adapting background")
+    margin = 0.12 * width
+    ax.set_xlim(outline[:, 0].min() - margin, outline[:, 0].max() + margin)
+    ax.set_ylim(outline[:, 1].min() - margin, outline[:, 1].max() + margin)
     ax.set_aspect("equal")
-    ax.set_title(title, fontsize=9)
+    ax.set_title(textwrap.fill(title, 60), fontsize=9)
     ax.set_xlabel("x")
     ax.set_ylabel("y")
+    fig.legend(loc="outside lower center", fontsize=7, frameon=False, markerscale=3)
+    save(fig, path)
+
+
+def field_of_view(azimuth_deg, elevation_deg, seen, path, title, border=None):
+    """One eye's field on an equirectangular map in its own azimuth, with a measured border.
+
+    Parameters
+    ----------
+    azimuth_deg : ndarray (w,)
+        Eye azimuth of each column, increasing, degrees (0 ahead, positive lateral).
+    elevation_deg : ndarray (h,)
+        Elevation of each row, decreasing.
+    seen : ndarray of bool (h, w)
+    border : (elevation, medial, lateral) arrays, optional
+        The measured field's limits of azimuth at each elevation.
+    """
+    fig = Figure(figsize=(7.0, 3.9), layout="constrained")
+    ax = fig.subplots()
+    box = (azimuth_deg[0], azimuth_deg[-1], elevation_deg[-1], elevation_deg[0])
+    ax.imshow(np.where(seen, 0.55, 0.92), extent=box, cmap="gray", vmin=0, vmax=1, interpolation="nearest",
+              aspect="auto")
+    if border is not None:
+        e, medial, lateral = border
+        ax.plot(np.concatenate([medial, lateral[::-1], medial[:1]]), np.concatenate([e, e[::-1], e[:1]]),
+                color="tab:red", linewidth=1.2, label="measured border (Stürzl et al. 2010, after Seidl 1982)")
+        ax.legend(loc="lower right", fontsize=7, frameon=False)
+    ax.set(xlim=(box[0], box[1]), ylim=(-90, 90), xticks=range(-90, 271, 45), yticks=range(-90, 91, 30),
+           xlabel="azimuth, ° (0 ahead, positive lateral)", ylabel="elevation, °")
+    ax.grid(color="0.7", linewidth=0.3)
+    ax.set_title(textwrap.fill(title, 90), fontsize=9)
+    save(fig, path)
+
+
+def _arrow(ax, start, direction, length, label):
+    tip = start + length * np.asarray(direction)
+    # White with a dark edge: legible on a black unlit half and a white sky alike.
+    edge = [patheffects.withStroke(linewidth=2.2, foreground="0.1")]
+    ax.annotate("", xy=tip, xytext=start, arrowprops={"arrowstyle": "-|>", "color": "w", "linewidth": 1.2,
+                                                       "path_effects": edge})
+    # Where the label goes is decided on screen, where a mirrored panel's x runs backwards.
+    dx, dy = direction[0] * (-1 if ax.xaxis_inverted() else 1), direction[1]
+    ax.annotate(label, tip, xytext=(4 * dx, 4 * dy), textcoords="offset points", fontsize=8, color="w",
+                path_effects=edge, ha="left" if dx > 0.3 else "right" if dx < -0.3 else "center",
+                va="bottom" if dy > 0.3 else "top" if dy < -0.3 else "center")
+
+
+def retina(image, extents, anterior, dorsal, path, title, caption, colourbar_label=None):
+    """Both eyes' retinal images side by side, in millimetres, with their orientation and exposure.
+
+    Parameters
+    ----------
+    image : ndarray (h, 2w, 3) or (h, 2w)
+        Display values in [0, 1], the left eye in the left half; NaN
+        outside the eyes, shown as the light grey surround, so that a
+        receptor that caught nothing (black) stands apart from it.
+    extents : pair of (x0, x1, y_bottom, y_top)
+        Each half's extent in the retinal plane, mm; the right eye's runs
+        from larger to smaller x, since it is shown mirrored.
+    anterior, dorsal : array_like (2,)
+        The head's anterior and dorsal directions in the retinal plane.
+    caption : str
+        The exposure: what maps catches to grey levels.
+    colourbar_label : str, optional
+        For a single channel (drawn in grey, 0 black to 1 white), the label of its colour bar.
+    """
+    fig = Figure(figsize=(8.4, 5.4), layout="constrained")
+    # The bottom strip is kept for the caption, which the layout engine would not always clear.
+    fig.get_layout_engine().set(rect=(0.0, 0.1, 1.0, 0.9))
+    axes = fig.subplots(1, 2, sharey=True)
+    w = image.shape[1] // 2
+    for ax, half, extent, name in zip(axes, (image[:, :w], image[:, w:]), extents, ("left eye", "right eye")):
+        ax.set_facecolor("0.85")
+        if half.ndim == 2:
+            shown = ax.imshow(np.ma.masked_invalid(half), extent=extent, cmap="gray", vmin=0.0, vmax=1.0,
+                              interpolation="nearest")
+        else:
+            rgba = np.dstack([np.nan_to_num(half), np.isfinite(half).all(-1)])
+            ax.imshow(rgba, extent=extent, interpolation="nearest")
+        ax.set_xlim(extent[0], extent[1])
+        ax.set_aspect("equal")
+        ax.set_title(name, fontsize=9)
+        ax.set_xlabel("retinal plane, mm")
+        x0, x1, y0, y1 = extent
+        # Below and behind the middle, so the anterior arrow crosses the panel.
+        width = abs(x1 - x0)
+        start = np.array([0.5 * (x0 + x1) - 0.34 * width * np.sign(anterior[0] or 1), y0 + 0.14 * (y1 - y0)])
+        length = 0.12 * width
+        _arrow(ax, start, dorsal, length, "dorsal")
+        _arrow(ax, start, anterior, length, "anterior")
+    axes[0].set_ylabel("retinal plane, mm")
+    if colourbar_label is not None:
+        fig.colorbar(shown, ax=axes, label=colourbar_label, shrink=0.7)
+    fig.suptitle(title, fontsize=10)
+    fig.text(0.5, 0.01, textwrap.fill(caption, 150), ha="center", va="bottom", fontsize=7)
     save(fig, path)
 
 
@@ -196,7 +320,7 @@ def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):
         The human pinhole render.
     """
     n = len(panels) + (human is not None)
-    fig = Figure(figsize=(5.2 * n, 3.3), constrained_layout=True)
+    fig = Figure(figsize=(5.2 * n, 3.8), layout="constrained")
     axes = fig.subplots(1, n)
     box = (azimuth_deg[0], azimuth_deg[-1], elevation_deg[-1], elevation_deg[0])
     for ax, (name, rgb) in zip(axes, panels.items()):

@@ -64,6 +64,21 @@ def canvas(xy, width_px):
     return Canvas(np.array(side), grid, pixel)
 
 
+def panel_extents(can):
+    """Each panel's (x0, x1, y_bottom, y_top) in the retinal plane, mm, left eye first.
+
+    The right eye's panel is mirrored, so its x runs from larger to smaller.
+    """
+    w = can.side.shape[1] // 2
+    half = 0.5 * can.pixel_mm
+    ys = can.xy[:, 0, 1]
+    extents = []
+    for xs in (can.xy[0, :w, 0], can.xy[0, w:, 0]):
+        edge = half * np.sign(xs[-1] - xs[0])
+        extents.append((xs[0] - edge, xs[-1] + edge, ys[-1] - half, ys[0] + half))
+    return extents
+
+
 def voronoi(can, xy, sides, values):
     """Nearest-receptor image, NaN outside each eye's convex hull; values (n, c) → (h, w, c)."""
     values = np.asarray(values, float).reshape(len(xy), -1)

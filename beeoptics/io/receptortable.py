@@ -17,6 +17,16 @@ Columns of ``receptors.csv`` (``results/eyes/{eye}/receptors.csv``):
     Mean angle between this receptor's axis and its neighbours' axes.
 ``delta_rho_deg``
     Acceptance angle (full width at half maximum of A(θ)).
+
+Eyes that describe a dorsal rim area add two columns
+(:mod:`beeoptics.eye.dorsalrim`):
+
+``dorsal_rim``
+    1 for a facet of the dorsal rim area, else 0.
+``microvilli_deg``
+    The orientation of its UV receptors' microvilli about the axis, from
+    the head's dorsal towards its anterior direction, degrees in [0, 180);
+    empty (NaN) outside the area, where the rhabdoms twist.
 """
 
 from typing import NamedTuple
@@ -31,6 +41,8 @@ COLUMNS = ("id", "side", "x", "y", "z", "ax", "ay", "az",
            "facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
 #: The columns that measure a receptor's optics, one number each.
 MEASURES = ("facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
+#: Columns of eyes with a dorsal rim area.
+DORSAL_RIM_COLUMNS = ("dorsal_rim", "microvilli_deg")
 
 
 class ReceptorTable(NamedTuple):
@@ -39,7 +51,9 @@ class ReceptorTable(NamedTuple):
     ``position`` (n, 3) is in mm and ``axis`` (n, 3) a unit vector, both in
     the head frame; the other fields are (n,) arrays named as the columns of
     :data:`COLUMNS`. ``focal_offset_mm`` is CompoundRay's focal point offset,
-    None for a table that does not come from a ``.eye`` file.
+    None for a table that does not come from a ``.eye`` file; ``dorsal_rim``
+    and ``microvilli_deg`` (:data:`DORSAL_RIM_COLUMNS`) are None for an eye
+    without a dorsal rim area.
     """
 
     id: np.ndarray
@@ -50,13 +64,17 @@ class ReceptorTable(NamedTuple):
     delta_phi_deg: np.ndarray
     delta_rho_deg: np.ndarray
     focal_offset_mm: np.ndarray = None
+    dorsal_rim: np.ndarray = None
+    microvilli_deg: np.ndarray = None
 
     def columns(self):
-        """The table as the named columns of :data:`COLUMNS`."""
+        """The table as the named columns of :data:`COLUMNS` (and :data:`DORSAL_RIM_COLUMNS`, if given)."""
+        rim = {} if self.dorsal_rim is None else {"dorsal_rim": np.asarray(self.dorsal_rim).astype(int),
+                                                   "microvilli_deg": self.microvilli_deg}
         return {"id": self.id, "side": self.side,
                 **dict(zip(("x", "y", "z"), self.position.T)), **dict(zip(("ax", "ay", "az"), self.axis.T)),
                 "facet_diameter_um": self.facet_diameter_um, "delta_phi_deg": self.delta_phi_deg,
-                "delta_rho_deg": self.delta_rho_deg}
+                "delta_rho_deg": self.delta_rho_deg, **rim}
 
 
 def write_receptors(path, table):
@@ -73,11 +91,13 @@ def read_receptors(path):
         If a column is missing or not numeric, or a receptor is unusable
         (:func:`checked`).
     """
-    t = read_table(path, numeric=[c for c in COLUMNS if c != "side"], text=["side"])
+    rim = [c for c in DORSAL_RIM_COLUMNS if c in read_table(path)]
+    t = read_table(path, numeric=[*(c for c in COLUMNS if c != "side"), *rim], text=["side"])
     return checked(ReceptorTable(
         id=t["id"], side=t["side"],
         position=np.column_stack([t["x"], t["y"], t["z"]]), axis=np.column_stack([t["ax"], t["ay"], t["az"]]),
         facet_diameter_um=t["facet_diameter_um"], delta_phi_deg=t["delta_phi_deg"], delta_rho_deg=t["delta_rho_deg"],
+        dorsal_rim=t.get("dorsal_rim"), microvilli_deg=t.get("microvilli_deg"),
     ), path)
 
 
@@ -112,6 +132,16 @@ def checked(table, path):
     ):
         if bad.any():
             raise InputError(path, column, f"receptor {_first(ids, bad)}: {message}")
+    if table.dorsal_rim is not None:
+        rim = np.asarray(table.dorsal_rim, float)
+        angle = np.asarray(table.microvilli_deg, float)
+        for column, bad, message in (
+            ("dorsal_rim", ~np.isin(rim, (0.0, 1.0)), "dorsal_rim must be 1 (in the dorsal rim area) or 0"),
+            ("microvilli_deg", (rim == 1.0) & ~((angle >= 0.0) & (angle < 180.0)),
+             "a dorsal-rim receptor needs a microvillar orientation in [0, 180) degrees"),
+        ):
+            if bad.any():
+                raise InputError(path, column, f"receptor {_first(ids, bad)}: {message}")
     for side in SIDES:
         mine = table.position[np.asarray(table.side).astype(str) == side]
         size = np.ptp(mine, axis=0).max() if len(mine) else 0.0

@@ -5,24 +5,37 @@ mapping of output names to paths, atomically. The Snakemake rules in
 ``workflow/rules/eyes.smk`` and the command-line tool call nothing else.
 """
 
+import json
+from pathlib import Path
+
 import numpy as np
+from scipy.spatial import cKDTree
 
 from beeoptics.eye.acuity import acuity
 from beeoptics.eye.build import build_eye
+from beeoptics.eye import fieldmodel
 from beeoptics.eye.description import load_eye, load_eye_mesh
+from beeoptics.eye.fieldofview import visual_field
+from beeoptics.eye.lattice import kernel_mean
 from beeoptics.eye.remesh import remesh, target_edge_mm
 from beeoptics.images import figures
 from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.meshfile import read_mesh_normals, write_mesh
 from beeoptics.io.receptortable import read_receptors, write_receptors
+from beeoptics.headframe import RIGHT
 from beeoptics.io.table import write_table
 from beeoptics.vision.sensitivity import LAMBDA_MAX_APIS, RECEPTORS
 
 #: Wavelengths at which the Rayleigh limit is given, one per receptor class: its λmax (Peitsch et al. 1992).
 RAYLEIGH_NM = dict(zip(RECEPTORS, LAMBDA_MAX_APIS))
+#: The Δφ map's kernel, in facet spacings: wide enough to average a facet's six-edge noise over
+#: some thirty facets, narrow against the eye's hundred-facet gradients.
+DELTA_PHI_KERNEL = 3.0
+#: Width of the field-of-view figure's map, pixels (half a degree each).
+FIELD_MAP_WIDTH_PX = 720
 
 
-def remesh_eye(eye_file, outputs, *, edge_fraction=1 / 3, subdivisions=2):
+def remesh_eye(eye_file, outputs, *, edge_fraction=0.5, subdivisions=2):
     """Remesh an eye's hand-made mesh isotropically: ``outputs["remeshed"]``, a PLY with normals.
 
     The target edge is ``edge_fraction`` of the mean facet diameter of the
@@ -56,11 +69,13 @@ def build_facets(eye_file, remeshed_ply, outputs, *, tolerance_um, acceptance, p
         np.savez_compressed(tmp, **built.relaxation)
 
 
-def eye_figures(eye_file, relaxation_npz, receptors_csv, outputs):
-    """Collins' Fig. 7 for one eye, maps of its Δφ and facet diameters, its acceptance functions.
+def eye_figures(eye_file, relaxation_npz, receptors_csv, quality_json, outputs):
+    """Collins' Fig. 7 for one eye, maps of its Δφ and facet diameters, its acceptance functions, its field.
 
-    ``outputs`` maps ``relaxation``, ``delta_phi``, ``facet_diameter`` and
-    ``acceptance`` to PNG paths.
+    ``outputs`` maps ``relaxation``, ``delta_phi``, ``facet_diameter``,
+    ``acceptance`` and ``field_of_view`` to PNG paths; the field is drawn
+    against the measured border for an eye compared with it (``published:
+    field_model``), with the shares ``quality_json`` reports.
     """
     eye = load_eye(eye_file)
     table = read_receptors(receptors_csv)
@@ -69,10 +84,32 @@ def eye_figures(eye_file, relaxation_npz, receptors_csv, outputs):
     rest, rim = data["snapshots"][-1], data["boundary_xy"]
     figures.relaxation(data["snapshots"], data["iterations"], data["snapshot_diameter_um"], rim,
                        outputs["relaxation"], eye.name)
-    figures.eye_map(rest, data["delta_phi_deg"], rim, outputs["delta_phi"],
-                    "Δφ, degrees", f"{eye.name}: interommatidial angle Δφ")
+    # Each facet's Δφ is the mean over its few lattice edges, so neighbours scatter by lattice
+    # noise; the map shows the trend, averaged over a stated kernel.
+    spacing = np.median(cKDTree(rest).query(rest, k=2)[0][:, 1])
+    smooth = kernel_mean(rest, data["delta_phi_deg"], DELTA_PHI_KERNEL * spacing)
+    figures.eye_map(rest, smooth, rim, outputs["delta_phi"], "Δφ, degrees",
+                    f"{eye.name}: interommatidial angle Δφ, Gaussian kernel mean (σ = {DELTA_PHI_KERNEL:g} "
+                    "facet spacings); per-facet values in receptors.csv")
     figures.eye_map(rest, data["facet_diameter_um"], rim, outputs["facet_diameter"],
                     "facet diameter, µm", f"{eye.name}: facet diameter")
+    right = table.side == RIGHT
+    field = visual_field(table.axis[right], table.side[right], table.delta_rho_deg[right],
+                         table.delta_phi_deg[right], FIELD_MAP_WIDTH_PX)
+    # The map's azimuth runs towards the bee's left; the right eye's own, towards its right, from -90°.
+    order = np.argsort((-field.azimuth_deg + 90.0) % 360.0)
+    azimuth = (-field.azimuth_deg[order] + 90.0) % 360.0 - 90.0
+    seen = field.eyes[:, order] > 0
+    title = f"{eye.name}: the right eye's field of view (grey, within Δρ/2 of an axis or inside the lattice)"
+    border = None
+    if "field_model" in eye.published:
+        (low, high), medial, lateral = fieldmodel.border()
+        e = np.linspace(low, high, 200)
+        border = (e, medial(e), lateral(e))
+        quality = json.loads(Path(quality_json).read_text())["field"]["coverage"]
+        title += (f"; covers {100 * quality['covered']:.0f} % of the measured field, "
+                  f"{100 * quality['outside']:.1f} % of the model's field lies beyond it")
+    figures.field_of_view(azimuth, field.elevation_deg, seen, outputs["field_of_view"], title, border)
 
 
 def acuity_table(receptors_csvs, outputs, *, width_px=720):

@@ -27,7 +27,7 @@ from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.colourspace import colour_coordinates
 from beeoptics.vision.human import srgb, tristimulus
-from beeoptics.vision.sensitivity import RECEPTORS, TEMPLATE, overall_sensitivity, sensitivities
+from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, overall_sensitivity, sensitivities
 
 #: Percentile of the human view's luminance shown as white.
 HUMAN_WHITE_PERCENTILE = 99.0
@@ -86,7 +86,7 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
 
 
 def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, background="scene", light=None,
-                     receptor_curves=TEMPLATE):
+                     receptor_curves=PEITSCH_1992):
     """Catches and colour-space coordinates of every receptor: ``outputs["responses"]`` and ``["irradiance"]``.
 
     Parameters
@@ -102,7 +102,7 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
     light : dict, optional
         Overrides of the scene's light section, as the trace had them.
     receptor_curves : str
-        The receptor sensitivities: the template, or a CSV of measured curves
+        The receptor sensitivities: the measured default, the template, or a CSV of measured curves
         (:func:`beeoptics.vision.sensitivity.sensitivities`).
     """
     wl = grid(**spectral)

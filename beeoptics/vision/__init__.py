@@ -7,12 +7,13 @@ Names follow pavo's where pavo has the concept (Maia et al. 2019), so R users re
 from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
-    "sensitivity": ("LAMBDA_MAX_APIS", "RECEPTORS", "TEMPLATE", "govardovskii_a1", "measured_sensitivities",
+    "sensitivity": ("LAMBDA_MAX_APIS", "PEITSCH_1992", "RECEPTORS", "TEMPLATE", "describe", "govardovskii_a1",
+                    "measured_sensitivities",
                     "overall_sensitivity", "receptor_sensitivities", "sensitivities"),
     "catches": ("photon_flux", "quantum_catches"),
     "adaptation": ("background_catches",),
     "colourspace": ("colour_coordinates", "coc", "coc_distance", "excitation", "hexagon", "hexagon_polar",
-                    "hexagon_sector", "reflectance_catches", "rnl_distance", "spectral_locus", "triangle",
-                    "von_kries"),
+                    "hexagon_sector", "reflectance_catches", "rnl_distance", "spectral_locus", "triangle", "von_kries",
+                    "widest_spectral_locus"),
     "human": ("srgb", "tristimulus"),
 })

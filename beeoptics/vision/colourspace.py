@@ -443,6 +443,42 @@ def spectral_locus(sensitivities, wavelengths, background_q, flux):
     return SpectralLocus(wl, triangle(q), hexagon(excitation(q)))
 
 
+#: Intensities searched by :func:`widest_spectral_locus`, relative to the reference flux.
+LOCUS_INTENSITIES = np.logspace(-4.0, 4.0, 161)
+
+
+def widest_spectral_locus(sensitivities, wavelengths, background_q, flux):
+    """The spectral locus with each light at the intensity that puts it furthest out in the hexagon.
+
+    Excitation saturates, so a monochromatic light's hexagon point first
+    moves out from the centre as it brightens, then back in as every
+    receptor saturates. Each wavelength's light is taken at the intensity,
+    among ``flux`` × :data:`LOCUS_INTENSITIES`, that puts it furthest from
+    the centre: the outer boundary of what monochromatic lights can reach,
+    the locus as Chittka (1992) draws it reaching out. The triangle
+    coordinates do not depend on intensity.
+
+    Parameters
+    ----------
+    sensitivities, wavelengths, background_q
+        As for :func:`spectral_locus`.
+    flux : float
+        The reference photon flux (a white surface's under the scene's light, say).
+
+    Returns
+    -------
+    SpectralLocus
+        As :func:`spectral_locus`'s.
+    ndarray, shape (n_wavelengths,)
+        Each light's intensity relative to ``flux``.
+    """
+    loci = [spectral_locus(sensitivities, wavelengths, background_q, flux * k) for k in LOCUS_INTENSITIES]
+    hexagons = np.stack([locus.hexagon for locus in loci])
+    best = np.argmax(np.hypot(hexagons[..., 0], hexagons[..., 1]), axis=0)
+    widest = hexagons[best, np.arange(len(best))]
+    return SpectralLocus(loci[0].wavelengths, loci[0].triangle, widest), LOCUS_INTENSITIES[best]
+
+
 def colour_coordinates(q, background_q, weber=BEE_WEBER):
     """Every colour-space coordinate of a set of catches, as named columns.
 

@@ -1,10 +1,14 @@
 """Spectral sensitivities of the honey bee's photoreceptors.
 
-The three receptor classes, UV, blue and green, are modelled with the A1
-visual-pigment template of Govardovskii et al. (2000), α and β bands, at the
-peak wavelengths measured by Peitsch et al. (1992): 344, 436 and 544 nm.
-As in pavo's ``sensmodel`` each curve is scaled to a peak of one and then
-divided by its sum over the grid, so that it sums to one ("integrate").
+By default the three receptor classes, UV, blue and green, have the curves
+Peitsch et al. (1992) measured, as pavo ships them (``sensdata(visual =
+"apis")``; the package's ``vision/data/apis_sensitivity_peitsch1992.csv``).
+The option ``govardovskii`` models them instead with the A1 visual-pigment
+template of Govardovskii et al. (2000), α and β bands, at the peak
+wavelengths Peitsch et al. measured: 344, 436 and 544 nm. The template
+puts 0.2 % of the UV receptor's sensitivity above 400 nm, the measured
+curve 6 %; under daylight, which rises steeply there, that shifts hues. As
+in pavo's ``sensmodel`` each curve sums to one over the grid ("integrate").
 
 The overall spectral sensitivity of the light-adapted bee, S(λ), which
 Collins (§3.2, Fig. 5a) takes from von Helversen (1972), has peaks near 345,
@@ -25,6 +29,8 @@ Honigbiene. J Comp Physiol 80:439–472.
 Maia R, Gruson H, Endler JA, White TE (2019) pavo 2. Methods Ecol Evol
 10:1097–1107.
 """
+
+from pathlib import Path
 
 import numpy as np
 
@@ -78,13 +84,26 @@ def receptor_sensitivities(wavelengths, lambda_max=LAMBDA_MAX_APIS):
 
 #: The config's name for the template curves, as against a CSV of measured ones.
 TEMPLATE = "govardovskii"
+#: The config's name for the measured curves of Peitsch et al. (1992) the package ships: the default.
+PEITSCH_1992 = "peitsch1992"
+#: Where those curves are, in pavo's layout (source in the folder's README).
+PEITSCH_1992_FILE = Path(__file__).parent / "data" / "apis_sensitivity_peitsch1992.csv"
 
 
-def sensitivities(wavelengths, source=TEMPLATE):
-    """The receptor curves a config names: :data:`TEMPLATE`, or the path of a pavo CSV of measured curves."""
+def sensitivities(wavelengths, source=PEITSCH_1992):
+    """The receptor curves a config names: :data:`PEITSCH_1992`, :data:`TEMPLATE`, or the path of a pavo CSV."""
     if source == TEMPLATE:
         return receptor_sensitivities(wavelengths)
-    return measured_sensitivities(source, wavelengths)
+    return measured_sensitivities(PEITSCH_1992_FILE if source == PEITSCH_1992 else source, wavelengths)
+
+
+def describe(source):
+    """A receptor-curve setting in words, for figures."""
+    if source == TEMPLATE:
+        return f"Govardovskii A1 template, λmax {'/'.join(f'{lam:g}' for lam in LAMBDA_MAX_APIS)} nm"
+    if source == PEITSCH_1992:
+        return "measured, Peitsch et al. (1992), as in pavo"
+    return f"measured, {Path(source).name}"
 
 
 def measured_sensitivities(path, wavelengths):

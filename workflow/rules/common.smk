@@ -4,7 +4,7 @@ from pathlib import Path
 
 from beeoptics.pipeline import sweeps
 from beeoptics.pipeline.outputs import COLOUR_FIGURES, FIELD_MAPS, IMAGES as RETINAL_IMAGES
-from beeoptics.vision.sensitivity import TEMPLATE
+from beeoptics.vision.sensitivity import PEITSCH_1992, TEMPLATE
 
 EYES_DIR = Path(config["eyes_dir"])
 SCENES_DIR = Path(config["scenes_dir"])
@@ -38,7 +38,7 @@ def scene_sources(wildcards):
 def sensitivity_files(wildcards=None):
     """A CSV of measured receptor curves is an input: editing it reruns what uses it."""
     curves = config["colour"]["sensitivities"]
-    return [] if curves == TEMPLATE else [curves]
+    return [] if curves in (TEMPLATE, PEITSCH_1992) else [curves]
 
 
 def trace_parts(wildcards):
@@ -56,7 +56,7 @@ def all_targets():
     figures = expand(
         "results/eyes/{eye}/figures/{name}.png",
         eye=config["eyes"],
-        name=["relaxation", "delta_phi", "facet_diameter", "acceptance"],
+        name=["relaxation", "delta_phi", "facet_diameter", "acceptance", "field_of_view"],
     ) + ["results/eyes/acuity.csv", "results/figures/sensitivities.png"]
     views = expand(
         "results/{eye}/{scene}/{name}",

@@ -43,11 +43,13 @@ rule eye_figures:
         sources=eye_sources,
         relaxation="results/eyes/{eye}/relaxation.npz",
         receptors="results/eyes/{eye}/receptors.csv",
+        quality="results/eyes/{eye}/quality.json",
     output:
         relaxation=report("results/eyes/{eye}/figures/relaxation.png", caption="../report/relaxation.rst", category="Eyes", subcategory="{eye}"),
         delta_phi=report("results/eyes/{eye}/figures/delta_phi.png", caption="../report/delta_phi.rst", category="Eyes", subcategory="{eye}"),
         facet_diameter=report("results/eyes/{eye}/figures/facet_diameter.png", caption="../report/facet_diameter.rst", category="Eyes", subcategory="{eye}"),
         acceptance=report("results/eyes/{eye}/figures/acceptance.png", caption="../report/acceptance.rst", category="Eyes", subcategory="{eye}"),
+        field_of_view=report("results/eyes/{eye}/figures/field_of_view.png", caption="../report/field_of_view.rst", category="Eyes", subcategory="{eye}"),
     params:
         eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
     log:

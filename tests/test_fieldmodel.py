@@ -1,0 +1,112 @@
+"""The worker's measured field (Seidl 1982, as Stürzl et al. 2010 model it), the axis model that maps
+a lattice onto it, the outline and cornea it implies, and the dorsal rim area."""
+
+import igl
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from beeoptics.eye import fieldmodel
+from beeoptics.eye.axismodel import field_axes
+from beeoptics.eye.dorsalrim import dorsal_rim, microvillar_angle
+from beeoptics.eye.lattice import hex_grid
+from beeoptics.eye.shape import HEXAGON_AREA, cornea, field_outline
+from beeoptics.headframe import RIGHT, eye_azimuth_elevation, eye_rotation
+
+
+def test_interommatidial_angles_take_stuerzls_values():
+    h = fieldmodel.delta_phi_horizontal
+    assert h(0.0, 0.0) == pytest.approx(3.7) and h(45.0, 0.0) == pytest.approx(2.4)
+    assert h(90.0, 0.0) == pytest.approx(3.7) and h(170.0, 0.0) == pytest.approx(4.6)
+    assert h(-45.0, 0.0) == pytest.approx(4.6)
+    # Towards the pole the excess over the frontal value shrinks: half of it at 70°.
+    assert h(170.0, 70.0) == pytest.approx(3.7 + 0.45)
+    assert fieldmodel.delta_phi_vertical([0.0, 45.0, -90.0]) == pytest.approx([1.5, 3.0, 4.5])
+
+
+def test_the_border_is_the_measured_one(shared_data):
+    border = np.genfromtxt(shared_data / "worker_eye_border_stuerzl2010.csv", delimiter=",", names=True)
+    (low, high), medial, lateral = fieldmodel.border()
+    np.testing.assert_allclose(lateral(border["elevation_1_2"]), border["azimuth_max_1_2"], atol=1e-9)
+    np.testing.assert_allclose(medial(border["elevation_3_4"]), border["azimuth_max_3_4"], atol=1e-9)
+    assert (low, high) == (-74.5, 69.0)
+    assert fieldmodel.inside([0.0, 150.0, -20.0, 165.0], [0.0, 0.0, 0.0, 0.0]).tolist() == [True, True, False, False]
+    # Near the top the field closes round the pole, behind the head too.
+    assert fieldmodel.inside(-170.0, 68.0)
+
+
+def test_the_model_holds_its_rows_of_ommatidia():
+    # Integrated, the model's rows hold about as many ommatidia as Seidl & Kaiser (1981) counted.
+    assert fieldmodel.ommatidia_count() == pytest.approx(5432, rel=0.1)
+    # A row at the equator: 171° of azimuth in steps of 2.4–4.6°.
+    assert 40 < fieldmodel.row_count(0.0) < 60
+    a, e = fieldmodel.direction_of_shares([0.0, 1.0, 0.5, 0.5], [0.5, 0.5, 0.0, 1.0])
+    assert e[0] == pytest.approx(-74.5) and e[1] == pytest.approx(69.0)
+    (low, high), medial, lateral = fieldmodel.border()
+    assert a[2] == pytest.approx(medial(e[2]), abs=0.01) and a[3] == pytest.approx(lateral(e[3]), abs=0.01)
+
+
+def lattice_on_the_outline(count=None, diameter=0.02):
+    """A hexagonal lattice filling the outline of ``count`` facets (the model's own count by default)."""
+    count = round(fieldmodel.ommatidia_count()) if count is None else count
+    outline = field_outline(count, diameter)
+    pitch = diameter
+    points = hex_grid(pitch, outline.min(0), outline.max(0))
+    from matplotlib.path import Path as Polygon
+
+    points = points[Polygon(outline).contains_points(points)]
+    return outline, np.column_stack([points, np.zeros(len(points))]), pitch
+
+
+def test_the_axis_map_fills_the_measured_field_in_order():
+    outline, points, pitch = lattice_on_the_outline()
+    rotation = eye_rotation(90.0, 0.0)
+    axes = field_axes(rotation, points, np.ones(len(points)), points, pitch)
+    azimuth, elevation = eye_azimuth_elevation(axes @ rotation, RIGHT)
+    # Every facet looks into the measured field, and the highest facets look highest.
+    assert fieldmodel.inside(azimuth, elevation).mean() > 0.99
+    assert np.corrcoef(points[:, 1], elevation)[0, 1] > 0.99
+    assert elevation.min() < -70.0 and elevation.max() > 65.0
+    # Along the equator's row the anterior facets look medially (the eye's x is anterior here).
+    row = np.abs(elevation) < 2.0
+    assert np.corrcoef(points[row, 0], azimuth[row])[0, 1] < -0.99
+    # Neighbours in a row are Δφ_h apart, as the model says, once the rows hold the model's ommatidia.
+    near = cKDTree(points[:, :2]).query_pairs(1.05 * pitch, output_type="ndarray")
+    same_row = np.abs(points[near[:, 0], 1] - points[near[:, 1], 1]) < 1e-9
+    pairs = near[same_row & (np.abs(elevation[near[:, 0]]) < 30.0)]
+    angle = np.degrees(np.arccos(np.clip((axes[pairs[:, 0]] * axes[pairs[:, 1]]).sum(1), -1, 1)))
+    model = fieldmodel.delta_phi_horizontal(azimuth[pairs[:, 0]], elevation[pairs[:, 0]])
+    assert np.median(angle / model) == pytest.approx(1.0, abs=0.1)
+
+
+def test_the_cornea_has_the_facets_area_and_normals_spread():
+    outline = field_outline(1500, 0.02)
+    area = 1500 * HEXAGON_AREA * 0.02**2
+    vertices, faces = cornea(outline, area, 3.0, 0.02)
+    assert 0.5 * igl.doublearea(vertices, faces).sum() == pytest.approx(area, rel=0.02)
+    t = vertices[faces]
+    assert (np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2] > 0).all()
+    # The vertical about twice the horizontal, as bee eyes are (Jander & Jander 2002).
+    assert np.ptp(vertices[:, 1]) / np.ptp(vertices[:, 0]) == pytest.approx(2.0, rel=0.2)
+
+
+def test_microvillar_angles_are_measured_from_up_towards_anterior():
+    lateral = np.array([[0.0, -1.0, 0.0]])
+    assert microvillar_angle(lateral, np.array([[0.0, 0.0, 1.0]])) == pytest.approx(0.0)
+    assert microvillar_angle(lateral, np.array([[1.0, 0.0, 0.0]])) == pytest.approx(90.0)
+    assert microvillar_angle(lateral, np.array([[1.0, 0.0, 1.0]])) == pytest.approx(45.0)
+    # The mirrored eye gives the same angle for the mirrored direction.
+    assert microvillar_angle(-lateral, np.array([[1.0, 0.0, 1.0]])) == pytest.approx(45.0)
+
+
+def test_the_dorsal_rim_area_is_the_strip_along_the_top():
+    outline, points, pitch = lattice_on_the_outline()
+    rim = np.column_stack([outline, np.zeros(len(outline))])
+    rotation = eye_rotation(90.0, 0.0)
+    axes = field_axes(rotation, points, np.ones(len(points)), points, pitch) @ rotation
+    member, angle = dorsal_rim(points, axes, rim, rotation, 40)
+    assert member.sum() == 40 and np.isnan(angle[~member]).all()
+    # Along the top: within the top tenth of the eye's height, half of them in its top row.
+    top = points[:, 1].max()
+    assert points[member, 1].min() >= top - 0.1 * np.ptp(outline[:, 1])
+    assert np.mean(points[member, 1] == top) >= 0.5
