@@ -272,7 +272,11 @@ def retina(image, extents, anterior, dorsal, path, title, caption, colourbar_lab
     colourbar_label : str, optional
         For a single channel (drawn in grey, 0 black to 1 white), the label of its colour bar.
     """
-    fig = Figure(figsize=(8.4, 5.4), layout="constrained")
+    x0, x1, y0, y1 = extents[0]
+    # Panels as wide as the eyes are, so that a tall eye does not leave the figure empty.
+    aspect = min(max(abs(x1 - x0) / abs(y1 - y0), 0.4), 1.6)
+    width = max(2.0 * 3.4 * aspect + (1.2 if colourbar_label else 0.6), 5.6)
+    fig = Figure(figsize=(width, 5.4), layout="constrained")
     # The bottom strip is kept for the caption, which the layout engine would not always clear.
     fig.get_layout_engine().set(rect=(0.0, 0.1, 1.0, 0.9))
     axes = fig.subplots(1, 2, sharey=True)
@@ -291,16 +295,17 @@ def retina(image, extents, anterior, dorsal, path, title, caption, colourbar_lab
         ax.set_xlabel("retinal plane, mm")
         x0, x1, y0, y1 = extent
         # Below and behind the middle, so the anterior arrow crosses the panel.
-        width = abs(x1 - x0)
-        start = np.array([0.5 * (x0 + x1) - 0.34 * width * np.sign(anterior[0] or 1), y0 + 0.14 * (y1 - y0)])
-        length = 0.12 * width
+        span = abs(x1 - x0)
+        start = np.array([0.5 * (x0 + x1) - 0.34 * span * np.sign(anterior[0] or 1), y0 + 0.14 * (y1 - y0)])
+        length = 0.12 * span
         _arrow(ax, start, dorsal, length, "dorsal")
         _arrow(ax, start, anterior, length, "anterior")
     axes[0].set_ylabel("retinal plane, mm")
     if colourbar_label is not None:
         fig.colorbar(shown, ax=axes, label=colourbar_label, shrink=0.7)
     fig.suptitle(title, fontsize=10)
-    fig.text(0.5, 0.01, textwrap.fill(caption, 150), ha="center", va="bottom", fontsize=7)
+    # About 18 characters of 7-point text to the inch.
+    fig.text(0.5, 0.01, textwrap.fill(caption, int(18 * width)), ha="center", va="bottom", fontsize=7)
     save(fig, path)
 
 
