@@ -138,3 +138,18 @@ def test_a_textured_gltf_gives_each_texel_its_material(tmp_path, wavelengths, su
     # A Lambertian square under a uniform sky, seen from above, is ρ times the sky: the bounce sees only sky.
     rho = np.array([0.1, 0.7, 0.7, 0.1])
     np.testing.assert_allclose(seen, rho[:, None] * scene.sky.basis[0], rtol=1e-9)
+
+
+def test_measured_ground_is_feister_and_grewes_albedo(wavelengths):
+    from beeoptics.light.materials import spectrum
+
+    at = np.searchsorted(wavelengths, [300.0, 400.0, 500.0, 700.0])
+    grass = spectrum({"ground": "grass"}, wavelengths, ".", "scene.yaml", "materials.soil.reflectance")[at]
+    loam = spectrum({"ground": "loam"}, wavelengths, ".", "scene.yaml", "materials.soil.reflectance")[at]
+    # Feister & Grewe (1995), as libRadtran tabulates them: grass 0.016 at 300 nm, loam 0.041.
+    assert grass[0] == pytest.approx(0.016) and loam[0] == pytest.approx(0.041)
+    # Green grass reflects far more in the red edge than in the UV; bare loam rises steadily.
+    assert grass[-1] > 5 * grass[0] and np.all(np.diff(loam) > 0)
+    with pytest.raises(InputError) as e:
+        spectrum({"ground": "lawns"}, wavelengths, ".", "scene.yaml", "materials.soil.reflectance")
+    assert "scene.yaml: materials.soil.reflectance.ground:" in str(e.value) and "did you mean 'lawn'?" in str(e.value)

@@ -18,6 +18,11 @@ A spectrum in a scene file is one of:
 ``{cie_d: 6504}``
     The CIE D-series illuminant of that correlated colour temperature,
     1 at 560 nm (for emitters and skies).
+``{ground: loam}``
+    The measured albedo of a kind of ground, from 290 nm (Feister & Grewe
+    1995; the package's ``light/data/ground_albedo_feister_grewe1995.csv``):
+    loam, sand, grass, lawn, stubble, beet, oat, rye, concrete_dry,
+    concrete_wet or snow.
 
 A material is ``{reflectance: <spectrum>, gloss: {specular: ks, exponent: n},
 emission: <spectrum>}``; only ``reflectance`` is required. The BRDF is
@@ -32,8 +37,12 @@ Chittka L, Menzel R (1992) The evolutionary adaptation of flower colours
 and the insect pollinators' colour vision. J Comp Physiol A 171:171–181.
 Lafortune EP, Willems YD (1994) Using the modified Phong reflectance model
 for physically based rendering. Report CW197, KU Leuven.
+Feister U, Grewe R (1995) Spectral albedo measurements in the UV and
+visible region over different types of surfaces. Photochem Photobiol
+62:736–744.
 """
 
+import difflib
 from pathlib import Path
 
 import numpy as np
@@ -42,6 +51,9 @@ from beeoptics.light import fred
 from beeoptics.io.errors import InputError
 from beeoptics.light.sky import cie_daylight
 from beeoptics.spectra import read_pavo_csv
+
+#: Measured ground albedos (Feister & Grewe 1995), in pavo's layout; source in the folder's README.
+GROUND_ALBEDO_FILE = Path(__file__).parent / "data" / "ground_albedo_feister_grewe1995.csv"
 
 
 def spectrum(spec, wavelengths, base_dir, source, field):
@@ -72,9 +84,17 @@ def spectrum(spec, wavelengths, base_dir, source, field):
                 -0.5 * ((wl - args["centre_nm"]) / args["width_nm"]) ** 2)
         if kind == "cie_d":
             return cie_daylight(wl, float(args))
+        if kind == "ground":
+            names, _, values = read_pavo_csv(GROUND_ALBEDO_FILE, wl)
+            if args not in names:
+                close = difflib.get_close_matches(str(args), names, n=1)
+                raise InputError(source, where, f"no measured ground {args!r}; "
+                                 + (f"did you mean {close[0]!r}?" if close else f"there are {', '.join(names)}"))
+            return values[:, names.index(args)]
     except (KeyError, TypeError) as e:
         raise InputError(source, where, f"missing or malformed parameter {e}") from None
-    raise InputError(source, field, f"unknown spectrum kind {kind!r}; use constant, csv, fred, sigmoid, gaussian or cie_d")
+    raise InputError(source, field, f"unknown spectrum kind {kind!r}; use constant, csv, fred, sigmoid, gaussian, "
+                     "cie_d or ground")
 
 
 def material(spec, wavelengths, base_dir, source, name):
