@@ -153,3 +153,20 @@ def test_measured_ground_is_feister_and_grewes_albedo(wavelengths):
     with pytest.raises(InputError) as e:
         spectrum({"ground": "lawns"}, wavelengths, ".", "scene.yaml", "materials.soil.reflectance")
     assert "scene.yaml: materials.soil.reflectance.ground:" in str(e.value) and "did you mean 'lawn'?" in str(e.value)
+
+
+def test_a_fred_median_is_the_median_of_the_spectra_it_names(wavelengths):
+    from beeoptics.light import fred
+    from beeoptics.light.materials import spectrum
+
+    leaf = spectrum({"fred": {"part": "leaf upper side", "median": True}}, wavelengths, ".", "scene.yaml", "leaf")
+    at = dict(zip(wavelengths, leaf))
+    # A typical green leaf: a peak in the green, chlorophyll's trough in the red, little UV.
+    assert at[550.0] > at[450.0] and at[550.0] > at[675.0] and at[350.0] < at[550.0]
+    ids = fred.matching(genus="Senecio")
+    assert 1 < len(ids) < 30
+    want = np.median([fred.reflectance(i, wavelengths) for i in ids], axis=0)
+    got = spectrum({"fred": {"genus": "Senecio", "median": True}}, wavelengths, ".", "scene.yaml", "petal")
+    np.testing.assert_array_equal(got, want)
+    with pytest.raises(InputError, match="no FReD spectrum"):
+        spectrum({"fred": {"genus": "Nonexistentia", "median": True}}, wavelengths, ".", "scene.yaml", "petal")

@@ -14,7 +14,7 @@ from beeoptics._exports import exports
 __all__, __getattr__ = exports(__name__, {
     "scene": ("Scene", "SceneObject", "load_scene", "raycasting_scene", "receptors_in_world"),
     "materials": ("material", "spectrum"),
-    "fred": ("catalogue", "find", "reflectance"),
+    "fred": ("catalogue", "find", "matching", "median_reflectance", "reflectance"),
     "sky": ("Sky", "cie_daylight", "horizontal_irradiance", "luminance", "preetham_sky", "sky_coefficients",
             "uniform_sky"),
     "sun": ("Sun", "sun_disc"),

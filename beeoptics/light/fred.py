@@ -53,6 +53,16 @@ def catalogue():
     return pd.read_feather(database_path()).drop(columns=SPECTRUM[1:]).drop_duplicates("data_id")
 
 
+def matching(source="FReD", field="fred", **query):
+    """The ``data_id`` of every spectrum matching ``query`` (keys of :data:`FIELDS`, case ignored)."""
+    rows = catalogue()
+    for key, value in query.items():
+        if key not in FIELDS:
+            raise InputError(source, f"{field}.{key}", f"unknown FReD field; use one of {sorted(FIELDS)}")
+        rows = rows[rows[FIELDS[key]].astype(str).str.lower() == str(value).lower()]
+    return [int(i) for i in rows["data_id"]]
+
+
 def find(source="FReD", field="fred", **query):
     """The ``data_id`` of the one spectrum matching ``query`` (keys of :data:`FIELDS`).
 
@@ -61,15 +71,33 @@ def find(source="FReD", field="fred", **query):
     InputError
         If no spectrum or more than one matches.
     """
-    rows = catalogue()
-    for key, value in query.items():
-        if key not in FIELDS:
-            raise InputError(source, f"{field}.{key}", f"unknown FReD field; use one of {sorted(FIELDS)}")
-        rows = rows[rows[FIELDS[key]].astype(str).str.lower() == str(value).lower()]
-    if len(rows) != 1:
-        ids = rows["data_id"].tolist()[:10]
-        raise InputError(source, field, f"{len(rows)} FReD spectra match {query}; give data_id (e.g. {ids})")
-    return int(rows["data_id"].iloc[0])
+    ids = matching(source, field, **query)
+    if len(ids) != 1:
+        raise InputError(source, field, f"{len(ids)} FReD spectra match {query}; give data_id (e.g. {ids[:10]})")
+    return ids[0]
+
+
+def median_reflectance(wavelengths, source="FReD", field="fred", **query):
+    """The median, wavelength by wavelength, of every spectrum matching ``query`` that covers the grid.
+
+    FReD's leaves (``part: leaf upper side``: 477 of its 478 cover 300–700 nm) give a
+    typical leaf this way, as the meadow's foliage.
+
+    Raises
+    ------
+    InputError
+        If no spectrum that covers the grid matches.
+    """
+    spectra = []
+    for data_id in matching(source, field, **query):
+        try:
+            spectra.append(reflectance(data_id, wavelengths, source, field))
+        except InputError:
+            continue
+    if not spectra:
+        raise InputError(source, field, f"no FReD spectrum matching {query} covers "
+                         f"{wavelengths[0]:g}–{wavelengths[-1]:g} nm")
+    return np.median(spectra, axis=0)
 
 
 def reflectance(data_id, wavelengths, source="FReD", field="fred"):

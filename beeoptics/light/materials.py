@@ -7,7 +7,9 @@ A spectrum in a scene file is one of:
 ``{csv: {file: spectra.csv, column: name}}``
     A column of a CSV in pavo's layout (see :mod:`beeoptics.spectra`).
 ``{fred: {data_id: 1234}}`` or ``{fred: {genus: …, species: …, part: …}}``
-    A measured flower or leaf spectrum from FReD (:mod:`beeoptics.light.fred`).
+    A measured flower or leaf spectrum from FReD (:mod:`beeoptics.light.fred`);
+    with ``median: true``, the median of every spectrum the fields match
+    (``{fred: {part: leaf upper side, median: true}}``: FReD's typical leaf).
 ``{sigmoid: {low: …, high: …, edge_nm: …, width_nm: …}}``
     A logistic step from ``low`` to ``high`` centred on ``edge_nm``: the
     shape of most flower spectra, which Chittka & Menzel (1992) describe by
@@ -74,6 +76,8 @@ def spectrum(spec, wavelengths, base_dir, source, field):
                 raise InputError(Path(base_dir) / args["file"], args["column"], "no such column")
             return values[:, names.index(args["column"])]
         if kind == "fred":
+            if args.get("median"):
+                return fred.median_reflectance(wl, source, where, **{k: v for k, v in args.items() if k != "median"})
             data_id = args["data_id"] if "data_id" in args else fred.find(source, where, **args)
             return fred.reflectance(int(data_id), wl, source, where)
         if kind == "sigmoid":
