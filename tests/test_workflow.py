@@ -184,9 +184,9 @@ def test_a_sweep_traces_every_combination_and_tables_them(workdir):
         assert (sweep / variant / "tiny" / "flower" / "responses.csv").stat().st_size > 0
 
 
-def test_measured_receptor_curves_from_a_csv_replace_the_template(workdir, tmp_path):
-    from beeoptics.vision.sensitivity import receptor_sensitivities
+def test_receptor_curves_from_a_csv_replace_the_default(workdir, tmp_path):
     from beeoptics.spectra import grid, write_pavo_csv
+    from beeoptics.vision.sensitivity import PEITSCH_1992_FILE, TEMPLATE, receptor_sensitivities
 
     flower = workdir / "results" / "tiny" / "flower"
     args = (workdir / "results" / "eyes" / "tiny" / "receptors.csv", workdir / "scenes" / "flower" / "scene.yaml",
@@ -195,12 +195,17 @@ def test_measured_receptor_curves_from_a_csv_replace_the_template(workdir, tmp_p
     wl = grid(300, 700, 1)
     curves = receptor_sensitivities(wl)
     write_pavo_csv(tmp_path / "same.csv", wl, dict(zip(("UV", "B", "G"), curves.T)))
-    gather_responses(*args, {"responses": tmp_path / "same.csv.out", "irradiance": tmp_path / "same.npz"},
-                     spectral=spectral, receptor_curves=str(tmp_path / "same.csv"))
-    ours = read_table(flower / "responses.csv", numeric=["UV", "B", "G"], text=["side"])
-    same = read_table(tmp_path / "same.csv.out", numeric=["UV", "B", "G"], text=["side"])
+    for name, curves_setting in (("same", str(tmp_path / "same.csv")), ("template", TEMPLATE),
+                                 ("peitsch", str(PEITSCH_1992_FILE))):
+        gather_responses(*args, {"responses": tmp_path / f"{name}.out", "irradiance": tmp_path / f"{name}.npz"},
+                         spectral=spectral, receptor_curves=curves_setting)
+    default = read_table(flower / "responses.csv", numeric=["UV", "B", "G"], text=["side"])
+    same, ours, peitsch = (read_table(tmp_path / f"{name}.out", numeric=["UV", "B", "G"], text=["side"])
+                           for name in ("same", "template", "peitsch"))
     for k in ("UV", "B", "G"):
+        # The template written as a CSV is the template; the workflow's default is Peitsch's file.
         np.testing.assert_allclose(same[k], ours[k], rtol=1e-6)
+        np.testing.assert_allclose(default[k], peitsch[k], rtol=1e-12)
     # A green receptor peaking 30 nm further red catches less of this scene's light relative to blue.
     shifted = receptor_sensitivities(wl, (344.0, 436.0, 574.0))
     write_pavo_csv(tmp_path / "red.csv", wl, dict(zip(("UV", "B", "G"), shifted.T)))
