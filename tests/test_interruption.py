@@ -45,9 +45,12 @@ def test_a_run_stopped_mid_trace_completes_on_rerun_with_identical_outputs(tmp_p
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     log = work / "results/logs/trace/tiny/flower/0_of_1.log"
     deadline = time.monotonic() + 300
-    while not log.exists() and run.poll() is None and time.monotonic() < deadline:
+    # Wait for the trace's own first line, not just for its log file: the run is then mid-trace,
+    # where Ctrl-C must stop it (stopped while the job was still starting, it once ran to the end).
+    while (not log.exists() or "tracing receptors" not in log.read_text()) and run.poll() is None \
+            and time.monotonic() < deadline:
         time.sleep(0.05)
-    # The trace job has started (its log opens first); it runs for seconds after that.
+    # The trace has started; it runs for seconds after that.
     time.sleep(0.3)
     assert run.poll() is None and not (work / TRACED).exists(), "the trace ended before it could be stopped"
     # SIGINT is Ctrl-C, to every process of the run; SIGKILL gives nothing a chance to clean up.

@@ -62,6 +62,8 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     first, last = bounds[part], bounds[part + 1]
     rs = raycasting_scene(scene)
     counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
+    log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
+             settings.depth, settings.threads)
     start = time.perf_counter()
 
     def trace(blocks):
