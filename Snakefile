@@ -36,10 +36,12 @@ except InputError as e:
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/world.smk"
 include: "workflow/rules/eyes.smk"
 include: "workflow/rules/trace.smk"
 include: "workflow/rules/images.smk"
 include: "workflow/rules/sweeps.smk"
+include: "workflow/rules/flights.smk"
 
 
 rule all:

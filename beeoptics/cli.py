@@ -28,6 +28,11 @@ from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, 
 from beeoptics.pipeline.outputs import COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES
 
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
+GRID = [
+    ("--start-nm", "spectral.start_nm", float, "first wavelength of the spectral grid, nm"),
+    ("--end-nm", "spectral.end_nm", float, "last wavelength of the spectral grid, nm"),
+    ("--step-nm", "spectral.step_nm", float, "spacing of the spectral grid, nm"),
+]
 SETTINGS = {
     "build-eye": [
         ("--edge-fraction", "eye.edge_fraction", float,
@@ -48,9 +53,7 @@ SETTINGS = {
         ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),
         ("--batch-rays", "trace.batch_rays", int, "rays one thread traces at once; bounds memory (about 600 "
          "bytes a ray, times --threads)"),
-        ("--start-nm", "spectral.start_nm", float, "first wavelength of the spectral grid, nm"),
-        ("--end-nm", "spectral.end_nm", float, "last wavelength of the spectral grid, nm"),
-        ("--step-nm", "spectral.step_nm", float, "spacing of the spectral grid, nm"),
+        *GRID,
         ("--background", "colour.background", str, "von Kries adapting background: 'scene' (the mean catch of all "
          "receptors) or a material of the scene (a Lambertian surface under its sky and sun)"),
         ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'peitsch1992' (measured, Peitsch et "
@@ -60,6 +63,7 @@ SETTINGS = {
         ("--field-width-px", "images.visual_field_width_px", int,
          "width of the visual-field map (with --figures), pixels; its height is half of it"),
     ],
+    "daylight": GRID,
 }
 FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud"}
 
@@ -249,6 +253,58 @@ def read_receptor_file(path, args):
     return table
 
 
+def daylight(args):
+    """Write clear-sky daylight (SPECTRL2, Bird & Riordan 1986) or a scene's light in pavo's layout.
+
+    Columns: wl (nm), then the global, direct and diffuse spectral irradiance
+    on an unshaded horizontal surface, W m⁻² nm⁻¹, for pavo's or
+    micaToolbox's illuminant.
+    """
+    from beeoptics.light.daylight import clear_sky, write_daylight
+    from beeoptics.light.materials import ground_albedo
+    from beeoptics.light.scene import load_scene
+    from beeoptics.light.sky import horizontal_irradiance
+    from beeoptics.spectra import grid
+
+    wl = grid(**settings(args)["spectral"])
+    if args.scene:
+        scene = load_scene(args.scene, wl)
+        direct = horizontal_irradiance(None, scene.sun, len(wl))
+        diffuse = horizontal_irradiance(scene.sky, None, len(wl))
+    else:
+        for option, value, low, high in (("--sun-elevation-deg", args.sun_elevation_deg, 0.0, 90.0),
+                                         ("--turbidity", args.turbidity, 1.7, 10.0),
+                                         ("--day-of-year", args.day_of_year, 1, 366)):
+            if not low <= value <= high:
+                raise InputError("command line", option, f"{value:g} is outside {low:g}–{high:g}")
+        albedo = ground_albedo(args.ground, wl, "command line", "--ground")
+        light = clear_sky(wl, args.sun_elevation_deg, args.turbidity, albedo, args.day_of_year)
+        direct = light.direct_normal * np.sin(np.radians(light.elevation_deg))
+        diffuse = light.diffuse
+    write_daylight(args.output, wl, direct, diffuse)
+    print(f"{args.output}: {len(wl)} wavelengths, {wl[0]:g}–{wl[-1]:g} nm; global irradiance at 550 nm "
+          f"{np.interp(550.0, wl, direct + diffuse):.3g} W m-2 nm-1")
+
+
+def meadow(args):
+    """Generate a meadow (grass, flowering plants, rough ground) as one coloured mesh.
+
+    Prints the triangles of each species and the colour of every part, for
+    the palette of the scene that places the mesh.
+    """
+    from beeoptics.world.meadow import read_meadow
+    from beeoptics.world.species import species_table
+    from beeoptics.pipeline.world import generate_meadow
+
+    counts = generate_meadow(args.meadow_file, {"mesh": args.output})
+    print(f"{args.output}: {sum(counts.values())} triangles ({', '.join(f'{k} {v}' for k, v in counts.most_common())})")
+    described = read_meadow(args.meadow_file)
+    table = species_table(described["species"])
+    print(f"palette: soil {described['ground']['colour']}, grass {described['grass']['colour']}")
+    for name in dict.fromkeys(e["species"] for e in described["specimens"] + described["plants"]):
+        print(f"palette: {name}: " + ", ".join(f"{part} {c}" for part, c in table[name]["colours"].items()))
+
+
 def convert(args):
     """Convert a receptor table to another format, each chosen by the file's extension."""
     from beeoptics.io import interchange
@@ -346,7 +402,8 @@ def info(args):
     print(f"scene: {scene.name}")
     sun = f"sun at elevation {light['sun_elevation_deg']}°, azimuth {light['sun_azimuth_deg']}°"
     print(f"light: {light['sky']} sky, turbidity {light['turbidity']}, {sun if light['sun'] else 'no sun'}")
-    print(f"eye: at {_readable(head['position_m'])} m, heading {head['heading_deg']}°, pitch {head['pitch_deg']}°")
+    print(f"eye: at {_readable(head['position_m'])} m, heading {head['heading_deg']}°, pitch {head['pitch_deg']}°, "
+          f"roll {head['roll_deg']}°")
     print(f"camera: at {_readable(cam['position_m'])} m looking at {_readable(cam['look_at_m'])} m, "
           f"{cam['vertical_fov_deg']}° high, "
           f"{cam['width_px']} × {cam['height_px']} px" + ("" if "camera" in data else " (default: the bee's view)"))
@@ -434,11 +491,29 @@ def parser():
                    "the machine's cores)")
     p.add_argument("--quiet", **quiet)
     p.set_defaults(run=render)
+    p = sub.add_parser("daylight", help="clear-sky daylight, or a scene's light, as irradiance in pavo's layout",
+                       description=daylight.__doc__)
+    p.add_argument("--sun-elevation-deg", type=float, default=45.0, help="the sun's elevation (default: %(default)s)")
+    p.add_argument("--turbidity", type=float, default=3.0,
+                   help="Preetham et al.'s turbidity, 1.7-10: 2 very clear, 3 clear, 6 hazy (default: %(default)s)")
+    p.add_argument("--ground", default="grass", help="the ground under the sky, measured by Feister & Grewe (1995): "
+                   "grass, lawn, loam, sand, snow, ... (default: %(default)s)")
+    p.add_argument("--day-of-year", type=int, default=172, help="for the Earth-Sun distance (default: %(default)s)")
+    p.add_argument("--scene", metavar="SCENE_YAML", help="instead, write this scene's sky and sun as they light an "
+                   "unshaded horizontal surface (the options above are then the scene's)")
+    p.add_argument("-o", "--output", required=True, metavar="CSV", type=Path,
+                   help="wl, then global, direct and diffuse horizontal irradiance, W m-2 nm-1")
+    p.set_defaults(run=daylight)
     for command, options in SETTINGS.items():
         for option, key, kind, text in options:
             sub.choices[command].add_argument(option, type=kind, default=reduce(dict.get, key.split("."),
                                               schema_defaults()), help=f"{text} (default: %(default)s)")
 
+    p = sub.add_parser("meadow", help="generate a meadow's mesh from its meadow.yaml", description=meadow.__doc__)
+    p.add_argument("meadow_file", metavar="MEADOW_YAML", help="meadow description, e.g. scenes/meadow/meadow.yaml")
+    p.add_argument("-o", "--output", required=True, metavar="PLY", type=Path,
+                   help="the mesh to write (binary PLY with each part's colour on its faces' corners)")
+    p.set_defaults(run=meadow)
     p = sub.add_parser("convert", parents=[eyefile], help="convert receptors between .csv, .eye and .ply",
                        description=convert.__doc__)
     p.add_argument("input", metavar="IN", help="receptors.csv, a CompoundRay .eye or a receptor .ply")

@@ -21,6 +21,7 @@ with a 280° field of view catadioptric imaging system. Bioinspir Biomim
 """
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 #: The sizes bee eyes come in, mm: even the smallest bees' eyes are a few tenths of a
 #: millimetre long, and the largest, the drone honey bee's, a few millimetres (Streinzer et
@@ -97,6 +98,13 @@ def eye_rotation(azimuth_deg, elevation_deg, roll_deg=0.0):
     r = np.deg2rad(roll_deg)
     x, y = np.cos(r) * x + np.sin(r) * y, -np.sin(r) * x + np.cos(r) * y
     return np.stack([x, y, z])
+
+
+def head_rotation(heading_deg, pitch_deg, roll_deg=0.0):
+    """The head frame's rotation in the world (3, 3), columns its axes: heading about world z (from +x
+    towards +y), then pitch (nose up positive), then roll (right side down positive)."""
+    return (Rotation.from_euler("z", heading_deg, degrees=True) * Rotation.from_euler("y", -pitch_deg, degrees=True)
+            * Rotation.from_euler("x", roll_deg, degrees=True)).as_matrix()
 
 
 def in_eye_plane(rotation):

@@ -18,11 +18,12 @@ ALLOWED = {
     "io": {"io", "headframe", "_exports"},
     "spectra": {"io"},
     "eye": {"eye", "io", *SHARED},
+    "world": {"world", "io", *SHARED},
     "light": {"light", "eye", "io", *SHARED},
     "vision": {"vision", "io", *SHARED},
     "images": {"images", "vision", "light", "eye", "io", *SHARED},
-    "pipeline": {"pipeline", "images", "vision", "light", "eye", "io", *SHARED},
-    "cli": {"pipeline", "images", "vision", "light", "eye", "io", *SHARED},
+    "pipeline": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
 }
 
 

@@ -106,7 +106,8 @@ def bee_curves(wl):
 
 def default_config():
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-    cfg.update(eyes=["tiny"], scenes=["open"], eyes_dir=str(DATA / "eyes"), scenes_dir=str(DATA / "scenes"))
+    cfg.update(eyes=["tiny"], scenes=["open"], eyes_dir=str(DATA / "eyes"), scenes_dir=str(DATA / "scenes"),
+               flights={"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"]}})
     return cfg
 
 
@@ -407,7 +408,20 @@ def test_an_unknown_scene_in_the_config_is_named(tmp_path):
     cfg["scenes"] = ["opne"]
     with pytest.raises(InputError) as e:
         validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
-    assert "flower, open" in assert_names(e, tmp_path / "config.yaml", "scenes.0")
+    assert "flower, generated, meadow_tiny, open" in assert_names(e, tmp_path / "config.yaml", "scenes.0")
+
+
+@pytest.mark.parametrize("change, field", [
+    (lambda f: f.update(path="flights/nowhere.csv"), "flights.dive.path"),
+    (lambda f: f.update(eyes=["tiny", "wroker"]), "flights.dive.eyes.1"),
+    (lambda f: f.update(scene="meadw"), "flights.dive.scene"),
+])
+def test_a_flight_with_a_missing_file_eye_or_scene_is_named(tmp_path, change, field):
+    cfg = default_config()
+    change(cfg["flights"]["dive"])
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert_names(e, tmp_path / "config.yaml", field)
 
 
 def test_known_eyes_and_scenes_pass_the_config_check(tmp_path):

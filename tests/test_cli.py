@@ -57,7 +57,7 @@ def test_help_of_every_subcommand_explains_every_option(capsys):
     code, out, _ = call(capsys, "--help")
     assert code == 0
     subcommands = top._subparsers._group_actions[0].choices
-    assert set(subcommands) == {"build-eye", "render", "convert", "info"}
+    assert set(subcommands) == {"build-eye", "render", "daylight", "meadow", "convert", "info"}
     schema = yaml.safe_load(cli.CONFIG_SCHEMA.read_text())
     for name, sub in subcommands.items():
         assert name in out
@@ -103,6 +103,48 @@ def test_the_installed_script_renders_the_same_bytes_again(built, rendered, tmp_
     assert sorted(p.name for p in again.iterdir()) == sorted(p.name for p in rendered.iterdir())
     for path in rendered.iterdir():
         assert (again / path.name).read_bytes() == path.read_bytes(), path.name
+
+
+def test_daylight_writes_clear_sky_irradiance_in_pavos_layout(tmp_path, capsys):
+    from beeoptics.light.daylight import clear_sky
+    from beeoptics.light.materials import ground_albedo
+
+    out = tmp_path / "daylight.csv"
+    code, text, _ = call(capsys, "daylight", "--sun-elevation-deg", 30, "--turbidity", 2, "--ground", "snow",
+                         "--step-nm", 10, "-o", out)
+    assert code == 0 and "daylight.csv" in text
+    table = read_table(out, numeric=["wl", "global", "direct", "diffuse"])
+    assert list(table) == ["wl", "global", "direct", "diffuse"]
+    wl = np.arange(300.0, 701.0, 10.0)
+    np.testing.assert_array_equal(table["wl"], wl)
+    want = clear_sky(wl, 30.0, 2.0, ground_albedo("snow", wl, "", ""))
+    np.testing.assert_allclose(table["diffuse"], want.diffuse, rtol=1e-6)
+    np.testing.assert_allclose(table["direct"], want.direct_normal * 0.5, rtol=1e-6)
+    np.testing.assert_allclose(table["global"], table["direct"] + table["diffuse"], rtol=1e-6)
+
+
+def test_daylight_writes_a_scenes_light_as_it_lights_the_ground(tmp_path, capsys):
+    from beeoptics.light.scene import load_scene
+    from beeoptics.light.sky import horizontal_irradiance
+
+    out = tmp_path / "light.csv"
+    assert call(capsys, "daylight", "--scene", FLOWER, "-o", out)[0] == 0
+    table = read_table(out, numeric=["wl", "global", "direct", "diffuse"])
+    scene = load_scene(FLOWER, table["wl"])
+    np.testing.assert_allclose(table["global"], horizontal_irradiance(scene.sky, scene.sun, len(table["wl"])),
+                               rtol=1e-6)
+
+
+def test_meadow_writes_the_generated_mesh_and_its_palette(tmp_path, capsys):
+    from beeoptics.io.meshfile import read_mesh
+
+    meadow = ROOT / "tests" / "data" / "scenes" / "generated" / "meadow.yaml"
+    code, text, _ = call(capsys, "meadow", meadow, "-o", tmp_path / "a.ply")
+    assert code == 0 and "palette: leucanthemum_vulgare: stem #3f7d2c" in text
+    _, faces, colours, _ = read_mesh(tmp_path / "a.ply", patterns=True)
+    assert f"{len(faces)} triangles" in text and len(np.unique(colours, axis=0)) == 8  # soil, grass, three parts of each species
+    assert call(capsys, "meadow", meadow, "-o", tmp_path / "b.ply")[0] == 0
+    assert (tmp_path / "a.ply").read_bytes() == (tmp_path / "b.ply").read_bytes()
 
 
 def test_convert_round_trips_through_compoundray_and_ply(built, tmp_path, capsys):
@@ -212,12 +254,26 @@ def unknown_background(tmp_path, built):
     return args, "scene.yaml", "materials"
 
 
+def turbid_daylight(tmp_path, built):
+    return ["daylight", "--turbidity", "20", "-o", tmp_path / "out" / "d.csv"], "command line", "--turbidity"
+
+
+def unknown_ground(tmp_path, built):
+    return ["daylight", "--ground", "gras", "-o", tmp_path / "out" / "d.csv"], "command line", "--ground"
+
+
+def meadow_of_unknown_species(tmp_path, built):
+    (tmp_path / "meadow.yaml").write_text("plants: [{species: bellis_perenis, density_per_m2: 1}]\n")
+    return ["meadow", tmp_path / "meadow.yaml", "-o", tmp_path / "out" / "meadow.ply"], "meadow.yaml", "plants"
+
+
 def unknown_format(tmp_path, built):
     return ["convert", built / "receptors.csv", tmp_path / "out" / "eye.txt"], "eye.txt", ""
 
 
 @pytest.mark.parametrize("case", [missing_mesh, unknown_material, nonpositive_delta_rho, zero_axis, nan_axis,
-                                  infinite_position, zero_samples, unknown_background, unknown_format])
+                                  infinite_position, zero_samples, unknown_background, turbid_daylight, unknown_ground,
+                                  meadow_of_unknown_species, unknown_format])
 def test_bad_input_is_one_line_naming_file_and_field_and_writes_nothing(case, tmp_path, built, capsys):
     args, file, field = case(tmp_path, built)
     code, out, err = call(capsys, *args)

@@ -13,7 +13,7 @@ from beeoptics.light.sensors import cone_samples
 from beeoptics.pipeline.trace import trace_part
 from conftest import ROOT, write_scene
 
-MEADOW = ROOT / "scenes" / "meadow" / "scene.yaml"
+MEADOW = ROOT / "tests" / "data" / "scenes" / "meadow_tiny" / "scene.yaml"
 SKY = {"gaussian": {"base": 0.01, "peak": 0.05, "centre_nm": 400, "width_nm": 50}}
 LEAF = {"sigmoid": {"low": 0.05, "high": 0.5, "edge_nm": 520, "width_nm": 15}}
 

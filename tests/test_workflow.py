@@ -39,6 +39,9 @@ def workdir(tmp_path_factory):
         "images": {"width_px": 64, "visual_field_width_px": 180},
         "sweeps": {"demo": {"eyes": ["tiny"], "scenes": ["flower"], "delta_rho_deg": [1.5, 4.0],
                             "sun_elevation_deg": [20, 70]}},
+        "flights": {"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"], "fps": 10,
+                             "samples_per_receptor": 4, "target": {"position_m": [0.1, 0.0, 0.12], "radius_m": 0.02},
+                             "human_view": {"width_px": 40, "height_px": 30, "samples_per_pixel": 1}}},
     }
     (work / "config.yaml").write_text(yaml.safe_dump(config))
     # The workflow's own files (report captions) are found beside its Snakefile.
@@ -63,6 +66,32 @@ def test_every_artifact_is_written(workdir):
             assert (workdir / "results" / "tiny" / scene / name).stat().st_size > 0
         for name in ("human.png", "human.exr"):
             assert (workdir / "results" / "scenes" / scene / name).stat().st_size > 0
+    assert (workdir / "scenes" / "generated" / "meadow.ply").stat().st_size > 0
+    for name in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png"):
+        assert (workdir / "results" / "flights" / "dive" / "tiny" / name).stat().st_size > 0
+
+
+def test_a_flight_follows_its_flower_frame_by_frame(workdir):
+    import OpenImageIO as oiio
+
+    flight = workdir / "results" / "flights" / "dive" / "tiny"
+    target = read_table(flight / "target.csv")
+    frames = len(target["frame"])
+    # The approach closes from 10 cm to 4 cm in 0.18 s: frames at 0, 0.1 s.
+    assert frames == 2
+    assert np.all(np.diff(target["distance_m"]) < 0) and np.all(np.diff(target["angular_diameter_deg"]) > 0)
+    assert target["distance_m"][0] == pytest.approx(0.10)
+    # Seen from 30° above its plane, 10 cm away, the head's widest extent is across the line of sight.
+    assert target["angular_diameter_deg"][0] == pytest.approx(np.degrees(2 * np.arctan(0.02 / 0.10)), rel=0.02)
+    flow = read_table(flight / "optic_flow.csv", text=["side"])
+    responses = read_table(flight / "responses.csv", text=["side"])
+    assert len(flow["id"]) == len(responses["id"]) == 600 * frames
+    assert np.isfinite(flow["flow_deg_s"]).all() and (flow["flow_deg_s"] > 0).any()
+    gif = oiio.ImageInput.open(str(flight / "animation.gif"))
+    count = 0
+    while gif.seek_subimage(count, 0):
+        count += 1
+    assert count == frames
 
 
 def test_receptor_table_describes_both_eyes_in_the_head_frame(workdir):

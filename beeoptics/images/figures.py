@@ -9,6 +9,7 @@ import textwrap
 
 import numpy as np
 from matplotlib import patheffects
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from beeoptics.eye.optics import angular_sensitivity
@@ -324,8 +325,20 @@ def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):
     human : ndarray (H, W, 3) or None
         The human pinhole render.
     """
+    save(_visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 5.2), path)
+
+
+def visual_field_frame(panels, eyes, azimuth_deg, elevation_deg, human, title):
+    """:func:`visual_field` as an RGB image (h, w, 3) of uint8, a frame of an animation."""
+    fig = _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 3.6)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    return np.asarray(canvas.buffer_rgba())[..., :3].copy()
+
+
+def _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, panel_width_in):
     n = len(panels) + (human is not None)
-    fig = Figure(figsize=(5.2 * n, 3.8), layout="constrained")
+    fig = Figure(figsize=(panel_width_in * n, panel_width_in * 0.73), layout="constrained", dpi=100)
     axes = fig.subplots(1, n)
     box = (azimuth_deg[0], azimuth_deg[-1], elevation_deg[-1], elevation_deg[0])
     for ax, (name, rgb) in zip(axes, panels.items()):
@@ -341,4 +354,24 @@ def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):
         axes[-1].set_axis_off()
         axes[-1].set_title("human view (CIE 1931, sRGB)", fontsize=9)
     fig.suptitle(title + " — white outline: binocular overlap; grey: not seen", fontsize=10)
+    return fig
+
+
+def optic_flow(azimuth_deg, elevation_deg, flow_deg_s, path, title):
+    """The optic flow of every receptor as arrows on the visual field (azimuth, elevation), coloured by speed.
+
+    ``flow_deg_s`` (n, 2) are the components along increasing azimuth and
+    elevation, degrees per second; arrows are drawn to a common scale.
+    """
+    speed = np.hypot(*flow_deg_s.T)
+    fig = Figure(figsize=(9.0, 4.8), layout="constrained")
+    ax = fig.subplots()
+    # Azimuth increases to the left on these maps, as the bee's visual field is drawn.
+    q = ax.quiver(azimuth_deg, elevation_deg, -flow_deg_s[:, 0], flow_deg_s[:, 1], speed, cmap="viridis",
+                  angles="xy", scale_units="xy", scale=np.percentile(speed, 95) / 8.0 + 1e-12, width=0.0015)
+    fig.colorbar(q, ax=ax, label="image speed, ° s⁻¹")
+    ax.set(xlim=(180, -180), ylim=(-90, 90), xticks=range(-180, 181, 60), yticks=range(-90, 91, 30),
+           xlabel="azimuth, ° (+ to the bee's left)", ylabel="elevation, °", aspect="equal")
+    ax.grid(color="0.8", linewidth=0.3)
+    ax.set_title(title, fontsize=9)
     save(fig, path)

@@ -52,6 +52,23 @@ def write_png(path, rgb):
     _write(path, np.rint(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8), oiio.UINT8)
 
 
+def write_gif(path, frames, fps):
+    """Write RGB frames (each (h, w, 3) uint8, all one size) as an animated GIF at ``fps`` frames a second."""
+    frames = [np.ascontiguousarray(f, np.uint8) for f in frames]
+    h, w, nc = frames[0].shape
+    spec = oiio.ImageSpec(w, h, nc, oiio.UINT8)
+    spec.attribute("FramesPerSecond", oiio.TypeRational, (int(round(fps * 1000)), 1000))
+    with atomic_path(path) as tmp:
+        out = oiio.ImageOutput.create(str(tmp))
+        if out is None or not out.open(str(tmp), [spec] * len(frames)):
+            raise OSError(f"cannot write {path}: {oiio.geterror()}")
+        for k, frame in enumerate(frames):
+            if (k and not out.open(str(tmp), spec, "AppendSubimage")) or not out.write_image(frame):
+                out.close()
+                raise OSError(f"cannot write {path}: {out.geterror()}")
+        out.close()
+
+
 def write_exr(path, data, channel_names):
     """Write float data (h, w, c) as a zip-compressed EXR with named channels."""
     _write(path, np.asarray(data, np.float32), oiio.FLOAT, channel_names, compression="zip")

@@ -210,6 +210,9 @@ def _check_folders(config, source):
         named = [(f"{key}.{i}", n) for i, n in enumerate(config[key])]
         named += [(f"sweeps.{s}.{key}.{i}", n) for s, sweep in config.get("sweeps", {}).items()
                   for i, n in enumerate(sweep.get(key, []))]
+        named += [(f"flights.{f}.eyes.{i}", n) if key == "eyes" else (f"flights.{f}.scene", n)
+                  for f, flight in config.get("flights", {}).items()
+                  for i, n in enumerate(flight["eyes"] if key == "eyes" else [flight["scene"]])]
         for field, name in named:
             if not (root / name / filename).is_file():
                 found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
@@ -219,6 +222,11 @@ def _check_folders(config, source):
                     f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
                 )
     root = Path(config["scenes_dir"])
+    for name, flight in config.get("flights", {}).items():
+        if not (root / flight["scene"] / flight["path"]).is_file():
+            raise InputError(source, f"flights.{name}.path",
+                             f"no flight {root / flight['scene'] / flight['path']} (the path is relative to the "
+                             "scene's folder)")
     scenes = [*config["scenes"], *(n for sweep in config.get("sweeps", {}).values() for n in sweep["scenes"])]
     for name in dict.fromkeys(scenes):
         check_background(root / name / "scene.yaml", config["colour"]["background"], source, "colour.background")

@@ -3,8 +3,9 @@
 The tracer follows the split of Mitsuba 3 and pbrt-v4: the sampler
 (:mod:`.sampler`), the sensors that start rays (:mod:`.sensors`: receptor
 cones, the pinhole camera), surface scattering (:mod:`.scattering`), the
-emitters (:mod:`.emitters`, with the sky and sun models of :mod:`.sky` and
-:mod:`.sun`) and the integrator that joins them (:mod:`.integrator`),
+emitters (:mod:`.emitters`, with the sky and sun of :mod:`.sky` and
+:mod:`.sun`, lit by the clear-sky daylight of :mod:`.daylight` and shaped by
+:mod:`.hosekwilkie`) and the integrator that joins them (:mod:`.integrator`),
 traced in batches on threads (:mod:`.batching`). Scenes are read by
 :mod:`.scene`, their spectra by :mod:`.materials` and :mod:`.fred`.
 """
@@ -12,11 +13,14 @@ traced in batches on threads (:mod:`.batching`). Scenes are read by
 from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
-    "scene": ("Scene", "SceneObject", "load_scene", "raycasting_scene", "receptors_in_world"),
-    "materials": ("material", "spectrum"),
+    "scene": ("Scene", "SceneObject", "bee_camera", "load_scene", "raycasting_scene",
+              "receptors_in_world"),
+    "materials": ("ground_albedo", "material", "spectrum"),
     "fred": ("catalogue", "find", "matching", "median_reflectance", "reflectance"),
-    "sky": ("Sky", "cie_daylight", "horizontal_irradiance", "luminance", "preetham_sky", "sky_coefficients",
-            "uniform_sky"),
+    "daylight": ("Daylight", "angstrom_beta", "clear_sky", "write_daylight"),
+    "hosekwilkie": ("CHANNELS_NM", "channel_radiance", "channel_weights"),
+    "sky": ("CLEAR_SKIES", "Sky", "cie_daylight", "clear_sky_dome", "horizontal_irradiance", "luminance",
+            "sky_coefficients", "uniform_sky"),
     "sun": ("Sun", "sun_disc"),
     "sampler": ("around", "shifted_halton", "tangent_frames", "uniform"),
     "sensors": ("cone_samples", "pinhole_rays"),

@@ -88,24 +88,37 @@ def median_reflectance(wavelengths, source="FReD", field="fred", **query):
     InputError
         If no spectrum that covers the grid matches.
     """
-    spectra = []
+    # Spectra measured on the same wavelengths are resampled together, one call per grid.
+    grids = {}
     for data_id in matching(source, field, **query):
+        wl, values = _by_id()[data_id]
+        grids.setdefault(wl.tobytes(), (wl, []))[1].append(values)
+    spectra = []
+    for wl, columns in grids.values():
         try:
-            spectra.append(reflectance(data_id, wavelengths, source, field))
+            spectra.append(resample(wl, np.column_stack(columns), wavelengths, source, field).T)
         except InputError:
             continue
     if not spectra:
         raise InputError(source, field, f"no FReD spectrum matching {query} covers "
                          f"{wavelengths[0]:g}–{wavelengths[-1]:g} nm")
-    return np.median(spectra, axis=0)
+    return np.median(np.clip(np.vstack(spectra), 0.0, 1.0), axis=0)
 
 
 def reflectance(data_id, wavelengths, source="FReD", field="fred"):
     """One FReD spectrum on the grid, as a fraction in [0, 1]."""
-    df = _spectra()
-    rows = df[df["data_id"].to_numpy() == data_id].drop_duplicates().sort_values("wavelengths", kind="stable")
-    if rows.empty:
+    if data_id not in _by_id():
         raise InputError(source, field, f"no FReD spectrum with data_id {data_id}")
-    values = resample(rows["wavelengths"].to_numpy(), rows["reflectance"].fillna(0.0).to_numpy(), wavelengths,
-                      source, f"{field} (FReD data_id {data_id})")
-    return np.clip(values, 0.0, 1.0)
+    wl, values = _by_id()[data_id]
+    return np.clip(resample(wl, values, wavelengths, source, f"{field} (FReD data_id {data_id})"), 0.0, 1.0)
+
+
+@cache
+def _by_id():
+    """Each spectrum's wavelengths and reflectance (missing values 0), by data_id, duplicate rows dropped."""
+    df = _spectra().drop_duplicates().sort_values(["data_id", "wavelengths"], kind="stable")
+    ids = df["data_id"].to_numpy()
+    wl = df["wavelengths"].to_numpy(float)
+    values = df["reflectance"].fillna(0.0).to_numpy(float)
+    bounds = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1], True])
+    return {int(ids[a]): (wl[a:b], values[a:b]) for a, b in zip(bounds[:-1], bounds[1:])}

@@ -26,6 +26,12 @@ A spectrum in a scene file is one of:
     loam, sand, grass, lawn, stubble, beet, oat, rye, concrete_dry,
     concrete_wet or snow.
 
+``{measured_daylight: {granada: 1234}}`` or ``{measured_daylight: {spitschan: 42}}``
+    The radiance of a uniform sky over the upper hemisphere that gives one
+    measured record's global irradiance (E/π): for ``light: {sky: uniform,
+    hemisphere: true, radiance: …}`` (:mod:`beeoptics.light.daylightrecords`;
+    Spitschan et al.'s records start at 360 nm, so the grid must too).
+
 A material is ``{reflectance: <spectrum>, gloss: {specular: ks, exponent: n},
 emission: <spectrum>}``; only ``reflectance`` is required. The BRDF is
 Lambertian with the spectral reflectance, plus, with ``gloss``, a
@@ -49,13 +55,23 @@ from pathlib import Path
 
 import numpy as np
 
-from beeoptics.light import fred
+from beeoptics.light import daylightrecords, fred
 from beeoptics.io.errors import InputError
 from beeoptics.light.sky import cie_daylight
 from beeoptics.spectra import read_pavo_csv
 
 #: Measured ground albedos (Feister & Grewe 1995), in pavo's layout; source in the folder's README.
 GROUND_ALBEDO_FILE = Path(__file__).parent / "data" / "ground_albedo_feister_grewe1995.csv"
+
+
+def ground_albedo(name, wavelengths, source, field):
+    """The albedo Feister & Grewe (1995) measured for ground ``name`` (loam, sand, grass, ...), on the grid."""
+    names, _, values = read_pavo_csv(GROUND_ALBEDO_FILE, wavelengths)
+    if name not in names:
+        close = difflib.get_close_matches(str(name), names, n=1)
+        raise InputError(source, field, f"no measured ground {name!r}; "
+                         + (f"did you mean {close[0]!r}?" if close else f"there are {', '.join(names)}"))
+    return values[:, names.index(name)]
 
 
 def spectrum(spec, wavelengths, base_dir, source, field):
@@ -89,16 +105,15 @@ def spectrum(spec, wavelengths, base_dir, source, field):
         if kind == "cie_d":
             return cie_daylight(wl, float(args))
         if kind == "ground":
-            names, _, values = read_pavo_csv(GROUND_ALBEDO_FILE, wl)
-            if args not in names:
-                close = difflib.get_close_matches(str(args), names, n=1)
-                raise InputError(source, where, f"no measured ground {args!r}; "
-                                 + (f"did you mean {close[0]!r}?" if close else f"there are {', '.join(names)}"))
-            return values[:, names.index(args)]
+            return ground_albedo(args, wl, source, where)
+        if kind == "measured_daylight":
+            (dataset, index), = args.items()
+            # The radiance of a uniform sky over the upper hemisphere that gives the record's irradiance.
+            return daylightrecords.record(dataset, int(index), wl, source, where) / np.pi
     except (KeyError, TypeError) as e:
         raise InputError(source, where, f"missing or malformed parameter {e}") from None
     raise InputError(source, field, f"unknown spectrum kind {kind!r}; use constant, csv, fred, sigmoid, gaussian, "
-                     "cie_d or ground")
+                     "cie_d, ground or measured_daylight")
 
 
 def material(spec, wavelengths, base_dir, source, name):

@@ -2,8 +2,9 @@
 
 The format is described in ``beeoptics/io/schemas/scene.schema.yaml`` and in
 the README. In short: metres, world +z up, azimuths from +x towards +y;
-``light`` sets the sky (``preetham``, ``uniform`` or ``none``) and the sun
-(elevation, azimuth, turbidity); ``eye`` places the bee's head (position,
+``light`` sets the sky (``hosek_wilkie``, ``preetham``, ``uniform`` or
+``none``) and the sun (elevation, azimuth, turbidity, the ground's albedo,
+the day of the year; :mod:`beeoptics.light.daylight`); ``eye`` places the bee's head (position,
 heading, pitch); ``camera`` a pinhole for the human view; ``materials``
 name spectral materials (:mod:`beeoptics.light.materials`); ``objects`` are
 meshes (read with pymeshlab: PLY, OBJ, glTF, STL, OFF) or primitives, each
@@ -20,12 +21,14 @@ import numpy as np
 import open3d as o3d
 from scipy.spatial.transform import Rotation
 
+from beeoptics.headframe import head_rotation
 from beeoptics.io.errors import InputError
 from beeoptics.io.imagefile import read_image
 from beeoptics.io.meshfile import read_mesh
 from beeoptics.io.validation import load_yaml, validate
+from beeoptics.light.daylight import clear_sky
 from beeoptics.light.materials import material, spectrum
-from beeoptics.light.sky import Sky, luminance, preetham_sky, uniform_sky
+from beeoptics.light.sky import CLEAR_SKIES, Sky, clear_sky_dome, luminance, uniform_sky
 from beeoptics.light.sun import Sun, sun_disc
 from beeoptics.raycasting import embree_scene
 
@@ -73,8 +76,10 @@ class Scene(NamedTuple):
 
 
 def _hex(colours):
-    rgb = np.rint(np.asarray(colours) * 255.0).astype(int)
-    return np.array([f"#{r:02x}{g:02x}{b:02x}" for r, g, b in rgb])
+    """The distinct colours (k,) as "#rrggbb", and which of them each colour is (n,)."""
+    rgb = np.rint(np.asarray(colours).reshape(-1, 3) * 255.0).astype(np.int64)
+    distinct, which = np.unique((rgb[:, 0] << 16) | (rgb[:, 1] << 8) | rgb[:, 2], return_inverse=True)
+    return np.array([f"#{k:06x}" for k in distinct]), which.ravel()
 
 
 def _unknown_material(name, names, source, field, user):
@@ -89,12 +94,11 @@ def _palette_ids(colours, palette, names, source, field, user):
     for m in lookup.values():
         if m not in names:
             raise _unknown_material(m, names, source, field, user)
-    hexes = _hex(colours)
+    hexes, which = _hex(colours)
     missing = sorted(set(hexes) - set(lookup))
     if missing:
         raise InputError(source, field, f"colours {missing[:5]} are not in the palette")
-    table = {h: names.index(lookup[h]) for h in set(hexes)}
-    return np.array([table[h] for h in hexes], dtype=np.int32)
+    return np.array([names.index(lookup[h]) for h in hexes], dtype=np.int32)[which]
 
 
 def _primitive(spec):
@@ -138,14 +142,14 @@ def _object(spec, base, names, source, index):
     raise InputError(source, field, "an object needs a material, a palette or a texture")
 
 
-def _bee_camera(position, head):
-    """The human view a scene gets by default: from the bee's head, looking where it looks."""
+def bee_camera(position, head, width_px=320, height_px=240):
+    """The human view a scene gets by default: from the bee's head, looking where it looks, 60° high."""
     at = np.asarray(position, float) + head[:, 0]
-    return {"position_m": list(position), "look_at_m": at.tolist(), "vertical_fov_deg": 60.0,
-            "width_px": 320, "height_px": 240}
+    return {"position_m": [float(v) for v in position], "look_at_m": at.tolist(), "vertical_fov_deg": 60.0,
+            "width_px": width_px, "height_px": height_px}
 
 
-def load_scene(path, wavelengths, light=None):
+def load_scene(path, wavelengths, light=None, eye=None):
     """Read and check a scene file.
 
     Parameters
@@ -155,11 +159,15 @@ def load_scene(path, wavelengths, light=None):
         The spectral grid, nm.
     light : dict, optional
         Overrides for the scene's ``light`` section (for sweeps).
+    eye : dict, optional
+        Overrides for its ``eye`` section (a flight's frame).
     """
     path = Path(path)
     data = load_yaml(path)
     if isinstance(data, dict) and light:
         data.setdefault("light", {}).update(light)
+    if isinstance(data, dict) and eye:
+        data.setdefault("eye", {}).update(eye)
     data = validate(data, "scene", path)
     base = path.parent
     wl = np.asarray(wavelengths, float)
@@ -178,14 +186,19 @@ def load_scene(path, wavelengths, light=None):
         if "luminance_cd_m2" in lt:
             radiance = radiance * lt["luminance_cd_m2"] / luminance(wl, radiance)
         sky = uniform_sky(radiance, lt["hemisphere"])
-    if lt["sky"] == "preetham" and lt["sun_elevation_deg"] <= 0.0:
+    clear = lt["sky"] in CLEAR_SKIES
+    if clear and lt["sun_elevation_deg"] <= 0.0:
         raise InputError(path, "light.sun_elevation_deg",
-                         "the Preetham sky is a daylight model: it needs the sun above the horizon")
+                         f"the {lt['sky']} sky is a daylight model: it needs the sun above the horizon")
     sun = None
-    if lt["sun"] or lt["sky"] == "preetham":
-        sun = sun_disc(wl, lt["sun_elevation_deg"], lt["sun_azimuth_deg"], lt["turbidity"])
-    if lt["sky"] == "preetham":
-        sky = preetham_sky(wl, sun.direction, lt["turbidity"])
+    if lt["sun"] or clear:
+        albedo = spectrum(lt["ground_albedo"], wl, base, path, "light.ground_albedo")
+        if not np.isfinite(albedo).all() or albedo.min() < 0.0 or albedo.max() > 1.0:
+            raise InputError(path, "light.ground_albedo", "an albedo must lie between 0 and 1")
+        daylight = clear_sky(wl, lt["sun_elevation_deg"], lt["turbidity"], albedo, lt["day_of_year"])
+        sun = sun_disc(daylight, lt["sun_azimuth_deg"])
+    if clear:
+        sky = clear_sky_dome(lt["sky"], daylight, sun.direction, lt["turbidity"], albedo)
     if not lt["sun"]:
         sun = None
     # An emitting material lights the scene only if some object is made of it.
@@ -201,8 +214,7 @@ def load_scene(path, wavelengths, light=None):
                          "no object of an emitting material")
 
     e = data["eye"]
-    head = (Rotation.from_euler("z", e["heading_deg"], degrees=True)
-            * Rotation.from_euler("y", -e["pitch_deg"], degrees=True)).as_matrix()
+    head = head_rotation(e["heading_deg"], e["pitch_deg"], e["roll_deg"])
     every = np.vstack([o.vertices for o in objects] + [np.zeros((1, 3))])
     n_wl = len(wl)
     return Scene(
@@ -213,7 +225,7 @@ def load_scene(path, wavelengths, light=None):
         exponent=np.array([m["exponent"] for m in mats]),
         sky=sky, sun=sun,
         eye_position=np.asarray(e["position_m"], float), eye_rotation=head,
-        camera=data.get("camera") or _bee_camera(data["eye"]["position_m"], head),
+        camera=data.get("camera") or bee_camera(data["eye"]["position_m"], head),
         extent=float(np.linalg.norm(np.ptp(every, axis=0))),
     )
 

@@ -1,23 +1,33 @@
 """The sky dome, as spectral radiance from 300 nm (the sun is :mod:`beeoptics.light.sun`).
 
 Three skies are offered. ``uniform`` has the same radiance in every
-direction of the whole sphere (for tests and for a simple overcast sky).
-``preetham`` is the clear sky of Preetham, Shirley & Smits (1999): the
-Perez et al. (1993) distributions of luminance Y and chromaticity (x, y),
-with Preetham's coefficients as linear functions of turbidity, turned into
-a spectrum through the CIE daylight basis S0, S1, S2 (CIE 015:2004), which
-colour-science tabulates from 300 nm. Both emit from the upper hemisphere
-only when ``hemisphere`` is set; the Preetham sky always does.
+direction of the whole sphere (for tests, an overcast sky or a measured
+daylight spectrum), or of the upper hemisphere when ``hemisphere`` is set.
+The two clear skies take the diffuse irradiance of a clear-sky spectral
+model (:mod:`beeoptics.light.daylight`, SPECTRL2) and spread it over the
+upper hemisphere, wavelength by wavelength, the way a sky-dome model does:
+``hosek_wilkie`` by Hosek & Wilkie's (2012) spectral model, whose
+distribution changes with wavelength (:mod:`beeoptics.light.hosekwilkie`),
+``preetham`` by the Perez et al. (1993) luminance distribution with
+Preetham et al.'s (1999) coefficients, the same at every wavelength. So the
+sky's brightness and colour are the measured atmosphere's, and its shape
+the sky-dome model's: at each wavelength the radiance over the hemisphere,
+weighted by the cosine of its zenith angle, integrates to the diffuse
+irradiance. (Preetham's own zenith luminance makes the sky 1.5–3.3 times too
+bright at 550 nm against SPECTRL2, and its colours, turned into spectra by
+the CIE daylight basis far outside that basis's range, 55–105% too rich at
+320–340 nm; it is no longer used.)
 
 Spectral radiance is in W m⁻² sr⁻¹ nm⁻¹.
 
 References
 ----------
+Hosek L, Wilkie A (2012) An analytic model for full spectral sky-dome
+radiance. ACM Trans Graph 31(4):95.
 Preetham AJ, Shirley P, Smits B (1999) A practical analytic model for
 daylight. Proc SIGGRAPH 99:91–100.
 Perez R, Seals R, Michalsky J (1993) All-weather model for sky luminance
 distribution — preliminary configuration and validation. Sol Energy 50:235–245.
-CIE 015:2004 Colorimetry, 3rd ed. (daylight basis functions S0, S1, S2).
 """
 
 from typing import NamedTuple
@@ -26,19 +36,17 @@ import colour
 import numpy as np
 from colour.constants import CONSTANT_K_M
 
+from beeoptics.light import hosekwilkie
 from beeoptics.spectra import resample
 
-# Perez coefficients A–E as slope·T + intercept (Preetham et al. 1999, appendix A.2).
-_PEREZ = {
-    "Y": np.array([[0.1787, -1.4630], [-0.3554, 0.4275], [-0.0227, 5.3251], [0.1206, -2.5771], [-0.0670, 0.3703]]),
-    "x": np.array([[-0.0193, -0.2592], [-0.0665, 0.0008], [-0.0004, 0.2125], [-0.0641, -0.8989], [-0.0033, 0.0452]]),
-    "y": np.array([[-0.0167, -0.2608], [-0.0950, 0.0092], [-0.0079, 0.2102], [-0.0441, -1.6537], [-0.0109, 0.0529]]),
-}
-# Zenith chromaticity as [T², T, 1]·M·[θs³, θs², θs, 1] (Preetham et al. 1999, appendix A.2).
-_ZENITH_X = np.array([[0.00166, -0.00375, 0.00209, 0.0], [-0.02903, 0.06377, -0.03202, 0.00394],
-                      [0.11693, -0.21196, 0.06052, 0.25886]])
-_ZENITH_Y = np.array([[0.00275, -0.00610, 0.00317, 0.0], [-0.04214, 0.08970, -0.04153, 0.00516],
-                      [0.15346, -0.26756, 0.06670, 0.26688]])
+#: The clear skies, by the model that shapes them.
+CLEAR_SKIES = ("hosek_wilkie", "preetham")
+# Perez coefficients A–E of luminance as slope·T + intercept (Preetham et al. 1999, appendix A.2).
+_PEREZ_Y = np.array([[0.1787, -1.4630], [-0.3554, 0.4275], [-0.0227, 5.3251], [0.1206, -2.5771], [-0.0670, 0.3703]])
+#: Cosine-weighted quadrature points per side over the hemisphere, for the sky's irradiance.
+QUADRATURE = 128
+
+
 class Sky(NamedTuple):
     """Sky radiance as a combination of a few basis spectra.
 
@@ -63,48 +71,59 @@ def _perez(cos_theta, gamma, coeffs):
     return (1.0 + a * np.exp(b / cos_theta)) * (1.0 + c * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
 
 
-def preetham_sky(wavelengths, sun_direction, turbidity):
-    """Preetham et al.'s clear sky over the upper hemisphere, spectral through the CIE daylight basis."""
-    basis = [colour.colorimetry.SDS_BASIS_FUNCTIONS_CIE_ILLUMINANT_D_SERIES[k] for k in ("S0", "S1", "S2")]
-    s = resample(basis[0].wavelengths, np.column_stack([b.values for b in basis]), wavelengths,
-                 "CIE daylight basis", "S0, S1, S2").T
-    # The luminance of each basis spectrum over its whole range, for converting luminance to radiance.
-    luminous = np.array([colour.luminous_flux(b, K_m=CONSTANT_K_M) for b in basis])
-    theta_s = np.arccos(np.clip(sun_direction[2], -1.0, 1.0))
-    t = turbidity
-    perez = {k: v[:, 0] * t + v[:, 1] for k, v in _PEREZ.items()}
-    chi = (4.0 / 9.0 - t / 120.0) * (np.pi - 2.0 * theta_s)
-    zenith_y = ((4.0453 * t - 4.9710) * np.tan(chi) - 0.2155 * t + 2.4192) * 1e3
-    powers = np.array([theta_s**3, theta_s**2, theta_s, 1.0])
-    tt = np.array([t * t, t, 1.0])
-    zenith = {"Y": zenith_y, "x": tt @ _ZENITH_X @ powers, "y": tt @ _ZENITH_Y @ powers}
-    norm = {k: zenith[k] / _perez(1.0, theta_s, perez[k]) for k in zenith}
-    return Sky("preetham", s, True, {"sun": np.asarray(sun_direction, float), "perez": perez,
-                                      "norm": norm, "luminous": luminous})
+def _hemisphere(samples=QUADRATURE):
+    """Cosine-distributed directions over the upper hemisphere, midpoints of a ``samples`` × ``samples`` grid."""
+    u = (np.arange(samples) + 0.5) / samples
+    u1, u2 = np.meshgrid(u, u, indexing="ij")
+    sin_t = np.sqrt(u1.ravel())
+    phi = 2.0 * np.pi * u2.ravel()
+    return np.column_stack([sin_t * np.cos(phi), sin_t * np.sin(phi), np.sqrt(1.0 - u1.ravel())])
+
+
+def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo):
+    """A clear sky shaped by ``model`` (:data:`CLEAR_SKIES`) carrying ``daylight``'s diffuse irradiance.
+
+    Parameters
+    ----------
+    model : str
+        ``hosek_wilkie`` or ``preetham``.
+    daylight : beeoptics.light.daylight.Daylight
+        Its ``diffuse`` is the horizontal irradiance the sky must give.
+    sun_direction : ndarray, shape (3,)
+        Unit vector towards the sun, above the horizon.
+    turbidity : float
+    albedo : ndarray, shape (n_wavelengths,)
+        The ground's albedo on the daylight's grid (Hosek & Wilkie's sky depends on it).
+    """
+    wl = daylight.wavelengths
+    sun = np.asarray(sun_direction, float)
+    if model == "hosek_wilkie":
+        params = {"sun": sun, "turbidity": float(turbidity),
+                  "albedo": np.interp(hosekwilkie.CHANNELS_NM, wl, albedo)}
+        weights = hosekwilkie.channel_weights(wl)
+    else:
+        params = {"sun": sun, "perez": _PEREZ_Y[:, 0] * turbidity + _PEREZ_Y[:, 1]}
+        weights = np.ones((len(wl), 1))
+    shape = Sky(model, None, True, params)
+    # Each basis spectrum's irradiance, then the wavelength-by-wavelength scale that
+    # makes their blend integrate to the diffuse irradiance.
+    per_basis = np.pi * sky_coefficients(shape, _hemisphere()).mean(0)
+    scale = daylight.diffuse / np.maximum(weights @ per_basis, 1e-300)
+    return shape._replace(basis=(weights * scale[:, None]).T)
 
 
 def sky_coefficients(sky, directions):
     """Weights (n, k) of the sky's basis spectra seen along unit ``directions`` (n, 3)."""
     d = np.asarray(directions, float)
-    n = len(d)
+    p = sky.params
     if sky.model == "uniform":
-        w = np.ones((n, 1))
+        w = np.ones((len(d), 1))
+    elif sky.model == "hosek_wilkie":
+        w = hosekwilkie.channel_radiance(d, p["sun"], p["turbidity"], p["albedo"])
     else:
-        p = sky.params
         cos_theta = np.maximum(d[:, 2], np.cos(np.pi / 2.0 - 1e-3))  # B/cos θ is singular at the horizon
         gamma = np.arccos(np.clip((d * p["sun"]).sum(1), -1.0, 1.0))
-        big_y, x = (p["norm"][k] * _perez(cos_theta, gamma, p["perez"][k]) for k in ("Y", "x"))
-        # The daylight basis holds only chromaticities on the daylight locus; Preetham's
-        # y strays a little above it (by up to 0.07 with the sun low), enough to drive the
-        # spectrum negative below 330 nm. The locus's own y at Preetham's x keeps every
-        # spectrum positive (CIE 015:2004, y_D = −3.000 x² + 2.870 x − 0.275).
-        y = -3.000 * x**2 + 2.870 * x - 0.275
-        # CIE 015:2004: M1, M2 of the daylight basis for chromaticity (x, y).
-        m = 0.0241 + 0.2562 * x - 0.7341 * y
-        m1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m
-        m2 = (0.0300 - 31.4424 * x + 30.0717 * y) / m
-        w = np.column_stack([np.ones(n), m1, m2])
-        w *= (big_y / (w * p["luminous"]).sum(1))[:, None]
+        w = _perez(cos_theta, gamma, p["perez"])[:, None]
     if sky.hemisphere:
         w[d[:, 2] <= 0.0] = 0.0
     return w
@@ -131,7 +150,7 @@ def luminance(wavelengths, radiance):
                                 K_m=CONSTANT_K_M)
 
 
-def horizontal_irradiance(sky, sun, n_wavelengths, samples=64):
+def horizontal_irradiance(sky, sun, n_wavelengths, samples=QUADRATURE):
     """Spectral irradiance on an unshaded horizontal surface from the sky and sun, W m⁻² nm⁻¹.
 
     The sky is integrated over the upper hemisphere by cosine-weighted
@@ -141,12 +160,7 @@ def horizontal_irradiance(sky, sun, n_wavelengths, samples=64):
     """
     total = np.zeros(n_wavelengths)
     if sky is not None:
-        u = (np.arange(samples) + 0.5) / samples
-        u1, u2 = np.meshgrid(u, u, indexing="ij")
-        sin_t = np.sqrt(u1.ravel())
-        phi = 2.0 * np.pi * u2.ravel()
-        d = np.column_stack([sin_t * np.cos(phi), sin_t * np.sin(phi), np.sqrt(1.0 - u1.ravel())])
-        total += np.pi * sky_coefficients(sky, d).mean(0) @ sky.basis
+        total += np.pi * sky_coefficients(sky, _hemisphere(samples)).mean(0) @ sky.basis
     if sun is not None and sun.direction[2] > 0.0:
         total += sun.radiance * sun.solid_angle * sun.direction[2]
     return total

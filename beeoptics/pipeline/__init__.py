@@ -10,6 +10,8 @@ __all__, __getattr__ = exports(__name__, {
     "trace": ("gather_responses", "human_view", "trace_part"),
     "images": ("colour_figures", "retinal_images", "sensitivity_figure", "visual_field_maps"),
     "sweeps": ("sweep_summary", "variant_light", "variant_trace", "variants", "with_delta_rho"),
+    "world": ("MEADOW_FILE", "MEADOW_MESH", "generate_meadow"),
+    "flights": ("flight_products", "frame_count", "frame_pose", "human_frame", "trace_frame"),
     "logs": ("logging_to",),
     "outputs": ("COLOUR_FIGURES", "FACET_OUTPUTS", "FIELD_MAPS", "IMAGES"),
 })

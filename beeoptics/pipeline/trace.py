@@ -18,7 +18,7 @@ from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background
 from beeoptics.light.batching import trace_bundles
 from beeoptics.light.integrator import trace_paths
-from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
+from beeoptics.light.scene import bee_camera, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, pinhole_rays
 from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.logs import log
@@ -33,7 +33,7 @@ from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, overall_sensit
 HUMAN_WHITE_PERCENTILE = 99.0
 
 
-def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0, parts=1, light=None,
+def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0, parts=1, light=None, eye=None,
                progress=None):
     """Trace the acceptance cones of one share of the receptors through a scene: ``outputs["radiance"]``.
 
@@ -48,19 +48,29 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     spectral : dict
         The config's ``spectral`` section (the grid, nm).
     settings : TraceSettings
-    light : dict, optional
-        Overrides of the scene's light section (sweeps).
+    light, eye : dict, optional
+        Overrides of the scene's light section (sweeps) and eye section (a flight's frame).
     progress : callable, optional
         Called with (receptors done, receptors in the share).
     """
     wl = grid(**spectral)
-    scene = load_scene(scene_file, wl, light)
+    scene = load_scene(scene_file, wl, light, eye)
     table = read_receptors(receptors_csv)
+    bounds = np.linspace(0, len(table.id), parts + 1).round().astype(int)
+    first, last = bounds[part], bounds[part + 1]
+    radiance, counts = trace_receptors(scene, table, first, last, settings, len(wl), progress)
+    with atomic_path(outputs["radiance"]) as tmp:
+        # Uncompressed: zlib shrinks these spectra by 6 % and took a sixth of the stage's time.
+        np.savez(tmp, id=table.id[first:last], radiance=radiance)
+    return counts
+
+
+def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None):
+    """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
+    and the ray counts; ``rs``, the scene's Embree scene if already built."""
     origins, axes = receptors_in_world(scene, table.position, table.axis)
     drho = table.delta_rho_deg
-    bounds = np.linspace(0, len(origins), parts + 1).round().astype(int)
-    first, last = bounds[part], bounds[part + 1]
-    rs = raycasting_scene(scene)
+    rs = raycasting_scene(scene) if rs is None else rs
     counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
              settings.depth, settings.threads)
@@ -78,13 +88,10 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
                 counts[k] += cast[k]
         return radiance, weights.sum(axis=1)
 
-    radiance = trace_bundles(trace, first, last, settings, len(wl), progress)
+    radiance = trace_bundles(trace, first, last, settings, n_wavelengths, progress)
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], time.perf_counter() - start)
-    with atomic_path(outputs["radiance"]) as tmp:
-        # Uncompressed: zlib shrinks these spectra by 6 % and took a sixth of the stage's time.
-        np.savez(tmp, id=table.id[first:last], radiance=radiance)
-    return counts
+    return radiance, counts
 
 
 def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, background="scene", light=None,
@@ -113,13 +120,29 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
     ids = np.concatenate([p["id"] for p in parts])
     if not np.array_equal(ids, table.id):
         raise InputError(part_npzs[0], "id", "the traced shares do not cover the receptor table in order")
-    radiance = np.concatenate([p["radiance"] for p in parts])
+    scene = load_scene(scene_file, wl, light)
+    columns, arrays = respond(table, np.concatenate([p["radiance"] for p in parts]), scene, wl, scene_file,
+                              background=background, receptor_curves=receptor_curves)
+    write_table(outputs["responses"], columns)
+    with atomic_path(outputs["irradiance"]) as tmp:
+        np.savez(tmp, id=table.id, wavelength_nm=wl, **arrays)
+
+
+def respond(table, radiance, scene, wl, scene_file, *, background="scene", receptor_curves=PEITSCH_1992):
+    """Every receptor's catches and colour coordinates from its spectral radiance (n, wavelengths) on the grid ``wl``.
+
+    Returns the responses table's columns (id, side, UV, B, G, brightness,
+    colour-space coordinates) and the arrays of the irradiance file:
+    ``radiance``, ``irradiance`` (float32), ``background_q`` (the adapting
+    catches), ``white_radiance`` (a white Lambertian surface under the
+    scene's sky and sun) and ``white_q`` (each receptor's catch of it,
+    map3's unity). See :func:`gather_responses` for ``background``.
+    """
     irradiance = radiance * acceptance_solid_angle(table.delta_rho_deg)[:, None]
     sens = sensitivities(wl, receptor_curves)
     catches = quantum_catches(irradiance, sens, wl)
     # Adaptation compares radiances: the acceptance solid angle cancels in every ratio.
     seen = quantum_catches(radiance, sens, wl)
-    scene = load_scene(scene_file, wl, light)
     # A white Lambertian surface under the scene's sky and sun: what a named
     # background reflects, and the photon flux of the spectral locus's lights.
     white = horizontal_irradiance(scene.sky, scene.sun, len(wl)) / np.pi
@@ -134,28 +157,29 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
                          "von Kries adaptation needs a background every class sees")
     overall = overall_sensitivity(wl, sens)
     brightness = quantum_catches(irradiance, (overall / overall.sum())[:, None], wl)[:, 0]
-    write_table(outputs["responses"], {"id": table.id, "side": table.side,
-                                       **{r: catches[:, k] for k, r in enumerate(RECEPTORS)},
-                                       "brightness": brightness, **colour_coordinates(seen, reference)})
+    columns = {"id": table.id, "side": table.side, **{r: catches[:, k] for k, r in enumerate(RECEPTORS)},
+               "brightness": brightness, **colour_coordinates(seen, reference)}
     # What each receptor would catch of the white surface: map3's unity.
     white_q = quantum_catches(white[None] * acceptance_solid_angle(table.delta_rho_deg)[:, None], sens, wl)
-    with atomic_path(outputs["irradiance"]) as tmp:
-        np.savez(tmp, id=table.id, wavelength_nm=wl, radiance=radiance.astype(np.float32),
-                 irradiance=irradiance.astype(np.float32), background_q=reference, white_radiance=white,
-                 white_q=white_q)
+    return columns, {"radiance": radiance.astype(np.float32), "irradiance": irradiance.astype(np.float32),
+                     "background_q": reference, "white_radiance": white, "white_q": white_q}
 
 
-def human_view(scene_file, outputs, *, spectral, settings):
+def human_view(scene_file, outputs, *, spectral, settings, eye=None, size_px=(320, 240)):
     """What a person sees of a scene through its pinhole camera: ``outputs["png"]`` and ``["exr"]``.
 
     Traced like the receptors (``settings.samples`` rays per pixel), then
     mapped through the CIE 1931 observer to sRGB (PNG, the 99th percentile
     of luminance as white) and written as linear XYZ (EXR, channels ``X``,
-    ``Y``, ``Z``).
+    ``Y``, ``Z``). With ``eye`` (overrides of the scene's eye section: a
+    flight's frame) the camera is the bee's own, ``size_px`` (width, height),
+    looking where its head looks (its roll left out), and only the PNG is
+    written.
     """
     wl = grid(**spectral)
-    scene = load_scene(scene_file, wl)
-    origin, dirs = pinhole_rays(scene.camera, settings.samples, settings.seed)
+    scene = load_scene(scene_file, wl, eye=eye)
+    camera = scene.camera if eye is None else bee_camera(scene.eye_position, scene.eye_rotation, *size_px)
+    origin, dirs = pinhole_rays(camera, settings.samples, settings.seed)
     rs = raycasting_scene(scene)
 
     def trace(blocks):
@@ -166,6 +190,7 @@ def human_view(scene_file, outputs, *, spectral, settings):
                            first_samples=blocks.first_sample, rs=rs), ones.sum(axis=1)
 
     xyz = tristimulus(wl, trace_bundles(trace, 0, len(dirs), settings, len(wl)))
-    shape = (scene.camera["height_px"], scene.camera["width_px"], 3)
+    shape = (camera["height_px"], camera["width_px"], 3)
     write_png(outputs["png"], srgb(xyz, np.percentile(xyz[:, 1], HUMAN_WHITE_PERCENTILE)).reshape(shape))
-    write_exr(outputs["exr"], xyz.reshape(shape), ("X", "Y", "Z"))
+    if eye is None:
+        write_exr(outputs["exr"], xyz.reshape(shape), ("X", "Y", "Z"))

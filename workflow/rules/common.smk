@@ -4,6 +4,8 @@ from pathlib import Path
 
 from beeoptics.pipeline import sweeps
 from beeoptics.pipeline.outputs import COLOUR_FIGURES, FIELD_MAPS, IMAGES as RETINAL_IMAGES
+from beeoptics.pipeline.flights import frame_count
+from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.vision.sensitivity import PEITSCH_1992, TEMPLATE
 
 EYES_DIR = Path(config["eyes_dir"])
@@ -31,8 +33,15 @@ def eye_sources(wildcards):
     return folder_files(EYES_DIR / wildcards.eye)
 
 
+def scene_files(scene):
+    """A scene's files, and the mesh of its meadow file, which the meadow rule generates."""
+    folder = SCENES_DIR / scene
+    generated = [str(folder / MEADOW_MESH)] if (folder / MEADOW_FILE).exists() else []
+    return sorted(set(folder_files(folder)) | set(generated))
+
+
 def scene_sources(wildcards):
-    return folder_files(SCENES_DIR / wildcards.scene)
+    return scene_files(wildcards.scene)
 
 
 def sensitivity_files(wildcards=None):
@@ -66,4 +75,7 @@ def all_targets():
     )
     humans = expand("results/scenes/{scene}/human.{ext}", scene=config["scenes"], ext=["png", "exr"])
     summaries = expand("results/sweeps/{sweep}/summary.csv", sweep=list(config["sweeps"]))
-    return eyes + figures + views + humans + summaries
+    flights = [f"results/flights/{name}/{eye}/{product}" for name, flight in config["flights"].items()
+               for eye in flight["eyes"]
+               for product in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png")]
+    return eyes + figures + views + humans + summaries + flights

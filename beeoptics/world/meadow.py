@@ -1,0 +1,156 @@
+"""A generated meadow: rough ground, tussocks of grass and flowering plants, as one coloured mesh.
+
+The meadow file (``scenes/<name>/meadow.yaml``, checked against
+``beeoptics/io/schemas/meadow.schema.yaml``) gives the patch's size, its
+ground (:mod:`beeoptics.world.terrain`), the grass and each species'
+density and clumping (:mod:`beeoptics.world.placement`), and specimens:
+single plants at given places and of given sizes, upright on level ground
+with no other plant round them, so that a flight can be written against
+the known place of their flower (the flower a flight approaches). Each species is built as a few
+variants (:mod:`beeoptics.world.species`) and placed many times, turned at
+random about the vertical. The result is a mesh whose faces carry each
+part's colour, written as PLY; a scene's ``palette`` maps those colours to
+measured spectra, so a generated meadow is an ordinary scene.
+
+Every random draw comes from the meadow's seed and the component it
+belongs to (the ground, the grass, the n-th specimen, the n-th species),
+so that the same file gives the same meadow, and adding a species leaves
+the others as they were.
+"""
+
+import numpy as np
+import pymeshlab
+
+from beeoptics.io.atomic import atomic_path
+from beeoptics.io.errors import InputError
+from beeoptics.io.validation import load_yaml, validate
+from beeoptics.world import placement, plants, terrain
+from beeoptics.world.species import check_species, plant, species_table
+
+
+def _rng(seed, component):
+    """The random numbers of one component of the meadow (an int, or a tuple of ints)."""
+    return np.random.default_rng([seed, *np.atleast_1d(component)])
+
+
+def _colour(hex_colour):
+    return np.array([int(hex_colour[i:i + 2], 16) for i in (1, 3, 5)], np.uint8)
+
+
+def _instances(template, rotations, positions):
+    """The template placed at each position (n, 3), turned by each rotation (n, 3, 3): one Mesh."""
+    n = len(positions)
+    vertices = np.einsum("nij,vj->nvi", rotations, template.vertices) + positions[:, None, :]
+    faces = template.faces[None] + len(template.vertices) * np.arange(n)[:, None, None]
+    return plants.Mesh(vertices.reshape(-1, 3), faces.reshape(-1, 3), np.tile(template.parts, n))
+
+
+def _yaw(angles):
+    c, s = np.cos(angles), np.sin(angles)
+    r = np.zeros((len(angles), 3, 3))
+    r[:, 0, 0], r[:, 0, 1], r[:, 1, 0], r[:, 1, 1], r[:, 2, 2] = c, -s, s, c, 1.0
+    return r
+
+
+def generate(meadow, source="meadow.yaml"):
+    """The meadow described by ``meadow`` (a checked meadow file): a Mesh and its face colours (m, 3), uint8.
+
+    Raises
+    ------
+    InputError
+        If a plant names an unknown species, or a species misses a colour.
+    """
+    table = species_table(meadow["species"])
+    for name, spec in meadow["species"].items():
+        check_species(spec, name, source, f"species.{name}")
+    extent = np.asarray(meadow["extent_m"], float)
+    seed = meadow["seed"]
+
+    specimens = meadow["specimens"]
+    clear = np.array([s["position_m"] for s in specimens]).reshape(-1, 2)
+    radii = np.array([s["clear_radius_m"] for s in specimens])
+
+    g = meadow["ground"]
+    x, y, h = terrain.height_field(extent, g["spacing_m"], g["rms_height_m"], g["correlation_length_m"],
+                                   _rng(seed, 0))
+    h = h * terrain.level_round(x, y, clear, radii)
+    meshes = [terrain.ground_mesh(x, y, h)]
+    colours = {"soil": _colour(g["colour"])}
+
+    def positions(points):
+        points = points[placement.clear_of(points, clear, radii)]
+        return np.column_stack([points, terrain.ground_height(x, y, h, points)])
+
+    gr = meadow["grass"]
+    rng = _rng(seed, 1)
+    feet = positions(placement.thomas(extent, gr["density_per_m2"], gr["per_clump"], gr["spread_m"], rng))
+    n = len(feet)
+    grass = plants.blades(rng.uniform(*gr["length_m"], n), rng.uniform(*gr["width_m"], n),
+                          np.radians(rng.uniform(*gr["inclination_deg"], n)),
+                          rng.uniform(*gr["curvature_per_m"], n), rng.uniform(0.0, 2.0 * np.pi, n))
+    grass = grass._replace(vertices=grass.vertices + np.repeat(feet, len(grass.vertices) // max(n, 1), axis=0))
+    meshes.append(grass)
+    colours["grass"] = _colour(gr["colour"])
+
+    # Specimens first, then the plants: a plant added at the end leaves every earlier triangle as it was.
+    entries = [("specimens", k, e) for k, e in enumerate(specimens)] + [("plants", k, e) for k, e in
+                                                                        enumerate(meadow["plants"])]
+    for group, k, entry in entries:
+        name = entry["species"]
+        if name not in table:
+            raise InputError(source, group, f"unknown species {name!r}; there are {', '.join(sorted(table))}")
+        spec = {**table[name], **entry.get("sizes", {})}
+        rng = _rng(seed, (2 if group == "specimens" else 3, k))
+        variants = [plant(spec, rng, upright="position_m" in entry) for _ in range(entry["variants"])]
+        if "position_m" in entry:
+            xy = np.array([entry["position_m"]])
+            feet = np.column_stack([xy, terrain.ground_height(x, y, h, xy)])
+        else:
+            feet = positions(placement.thomas(extent, entry["density_per_m2"], entry["per_clump"],
+                                              entry["spread_m"], rng))
+        which = rng.integers(0, len(variants), len(feet))
+        turns = _yaw(np.radians(entry["yaw_deg"]) * np.ones(len(feet)) if "yaw_deg" in entry
+                     else rng.uniform(0.0, 2.0 * np.pi, len(feet)))
+        for v, template in enumerate(variants):
+            chosen = which == v
+            if chosen.any():
+                placed = _instances(template, turns[chosen], feet[chosen])
+                meshes.append(placed._replace(parts=np.array([f"{name}.{p}" for p in placed.parts], dtype=object)))
+        colours.update({f"{name}.{p}": _colour(c) for p, c in spec["colours"].items()})
+
+    mesh = plants.join(meshes)
+    names = np.array(sorted(colours), dtype=object)
+    index = np.searchsorted(names, mesh.parts)
+    return mesh, np.array([colours[n] for n in names])[index]
+
+
+def write_ply(path, mesh, face_colours):
+    """Write the mesh as binary PLY, each face's colour on its own corners, with pymeshlab, atomically.
+
+    The colours go on vertices, not faces: meshio 5.3.5, which checks every
+    mesh before pymeshlab reads it, misreads binary PLY faces that carry
+    properties besides their corners. A vertex shared by faces of two
+    colours (where a ray floret's base meets its tip) is split in two, so
+    that each face's corners agree, which is how the scene reads them.
+    """
+    corners = np.column_stack([mesh.faces.ravel(), np.repeat(_colour_keys(face_colours), 3)])
+    unique, inverse = np.unique(corners, axis=0, return_inverse=True)
+    vertices = mesh.vertices[unique[:, 0]]
+    rgba = np.column_stack([np.repeat(face_colours, 3, axis=0)[np.unique(inverse, return_index=True)[1]] / 255.0,
+                            np.ones(len(unique))])
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=inverse.reshape(-1, 3), v_color_matrix=rgba))
+    with atomic_path(path) as tmp:
+        ms.save_current_mesh(str(tmp), binary=True, save_vertex_color=True, save_face_color=False,
+                             save_vertex_quality=False, save_face_quality=False)
+
+
+def _colour_keys(colours):
+    """One integer per colour (m, 3) uint8."""
+    c = colours.astype(np.int64)
+    return (c[:, 0] << 16) | (c[:, 1] << 8) | c[:, 2]
+
+
+def read_meadow(path):
+    """A meadow file, checked against its schema with defaults filled in."""
+    return validate(load_yaml(path), "meadow", path)

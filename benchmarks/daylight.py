@@ -1,0 +1,64 @@
+"""The clear-sky daylight against measured daylight, and Hosek & Wilkie's sky against SPECTRL2's.
+
+Prints, for the sun at 10–70° and turbidity 3 (the scenes' default), the
+global horizontal irradiance of the scene's sky and sun as the tracer sees
+them (the sky dome integrated over the hemisphere, plus the sun's disc):
+its UV/VIS photon ratio and UV/G catch ratio (Peitsch et al. 1992) beside
+the 10, 50 and 90th percentiles of the measured records like it
+(:mod:`beeoptics.light.daylightrecords`); then the diffuse irradiance
+Hosek & Wilkie's own model gives, per channel, as a ratio to SPECTRL2's.
+
+    .venv/bin/python benchmarks/daylight.py
+"""
+
+import numpy as np
+
+from beeoptics.headframe import direction_from_x_towards_y
+from beeoptics.light import hosekwilkie
+from beeoptics.light.daylight import clear_sky
+from beeoptics.light.daylightrecords import measured_ranges
+from beeoptics.light.materials import ground_albedo
+from beeoptics.light.sky import _hemisphere, clear_sky_dome, horizontal_irradiance
+from beeoptics.light.sun import sun_disc
+from beeoptics.spectra import grid
+from beeoptics.vision.sensitivity import sensitivities
+
+TURBIDITY = 3.0
+
+
+def scene_light(wl, elevation, albedo):
+    daylight = clear_sky(wl, elevation, TURBIDITY, albedo)
+    sun = sun_disc(daylight, 0.0)
+    sky = clear_sky_dome("hosek_wilkie", daylight, sun.direction, TURBIDITY, albedo)
+    return daylight, horizontal_irradiance(sky, sun, len(wl))
+
+
+def main():
+    wl = grid()
+    albedo = ground_albedo("grass", wl, "benchmark", "grass")
+    s = sensitivities(wl)
+    print(f"turbidity {TURBIDITY:g}, ground: grass (Feister & Grewe 1995); percentiles 10, 50, 90")
+    print("sun  | Granada (300 nm) n  UV/VIS ours  measured            UV/G ours  measured"
+          "            | Spitschan (360 nm) n  UV/VIS ours  measured            UV/G ours  measured")
+    for elevation in (10, 30, 50, 70):
+        daylight, light = scene_light(wl, elevation, albedo)
+        r = measured_ranges(wl, light, elevation, s)
+        row = f"{elevation:3d}° |"
+        for name in ("granada", "spitschan"):
+            m = r[name]
+            row += f" {m['n']:4d}  {m['model_uv_vis']:.3f}"
+            row += (f"  {m['uv_vis'][1]:.3f} [{m['uv_vis'][0]:.3f}–{m['uv_vis'][2]:.3f}]  {m['model_uv_g']:.3f}"
+                    f"  {m['uv_g'][1]:.3f} [{m['uv_g'][0]:.3f}–{m['uv_g'][2]:.3f}] |") if m["n"] else "  (no records) |"
+        print(row)
+    print("\nHosek & Wilkie's own diffuse irradiance / SPECTRL2's, per channel (nm):")
+    print("sun  | " + " ".join(f"{c:5.0f}" for c in hosekwilkie.CHANNELS_NM))
+    d = _hemisphere()
+    for elevation in (10, 30, 50, 70):
+        a = np.interp(hosekwilkie.CHANNELS_NM, wl, albedo)
+        own = np.pi * hosekwilkie.channel_radiance(d, direction_from_x_towards_y(0.0, elevation), TURBIDITY, a).mean(0)
+        spectrl2 = np.interp(hosekwilkie.CHANNELS_NM, wl, clear_sky(wl, elevation, TURBIDITY, albedo).diffuse)
+        print(f"{elevation:3d}° | " + " ".join(f"{v:5.2f}" for v in own / spectrl2))
+
+
+if __name__ == "__main__":
+    main()

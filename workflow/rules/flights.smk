@@ -1,0 +1,101 @@
+# Flights: every frame of a flight traced for each of its eyes, one job a frame, then gathered.
+
+
+def flight_file(wildcards):
+    f = config["flights"][wildcards.flight]
+    return SCENES_DIR / f["scene"] / f["path"]
+
+
+def flight_scene_sources(wildcards):
+    return scene_files(config["flights"][wildcards.flight]["scene"])
+
+
+def flight_frames(wildcards):
+    """Every frame's files of one eye's flight, in order."""
+    f = config["flights"][wildcards.flight]
+    n = frame_count(flight_file(wildcards), f["fps"])
+    base = f"results/flights/{wildcards.flight}"
+    return {
+        "radiance": [f"{base}/{wildcards.eye}/frames/{k}.npz" for k in range(n)],
+        "geometry": [f"{base}/{wildcards.eye}/frames/{k}_geometry.npz" for k in range(n)],
+        "human": [f"{base}/human/{k}.png" for k in range(n)],
+    }
+
+
+rule flight_frame:
+    input:
+        receptors="results/eyes/{eye}/receptors.csv",
+        scene=flight_scene_sources,
+        flight=flight_file,
+    output:
+        radiance="results/flights/{flight}/{eye}/frames/{frame}.npz",
+        geometry="results/flights/{flight}/{eye}/frames/{frame}_geometry.npz",
+    wildcard_constraints:
+        frame="[0-9]+",
+    params:
+        scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
+        spectral=config["spectral"],
+        trace=lambda w: {**config["trace"], "samples_per_receptor": config["flights"][w.flight]["samples_per_receptor"]},
+        fps=lambda w: config["flights"][w.flight]["fps"],
+    log:
+        "results/logs/flights/{flight}/{eye}/{frame}.log",
+    threads: 8
+    resources:
+        mem_mb=4000,
+        runtime=60,
+    script:
+        "../scripts/flight_frame.py"
+
+
+rule flight_human_frame:
+    input:
+        scene=flight_scene_sources,
+        flight=flight_file,
+    output:
+        png="results/flights/{flight}/human/{frame}.png",
+    wildcard_constraints:
+        frame="[0-9]+",
+    params:
+        scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
+        spectral=config["spectral"],
+        trace=config["trace"],
+        view=lambda w: config["flights"][w.flight]["human_view"],
+        fps=lambda w: config["flights"][w.flight]["fps"],
+    log:
+        "results/logs/flights/{flight}/human/{frame}.log",
+    threads: 8
+    resources:
+        mem_mb=4000,
+        runtime=30,
+    script:
+        "../scripts/flight_human_frame.py"
+
+
+rule flight:
+    input:
+        unpack(flight_frames),
+        receptors="results/eyes/{eye}/receptors.csv",
+        scene=flight_scene_sources,
+        curves=sensitivity_files,
+    output:
+        responses="results/flights/{flight}/{eye}/responses.csv",
+        optic_flow="results/flights/{flight}/{eye}/optic_flow.csv",
+        target="results/flights/{flight}/{eye}/target.csv",
+        animation=report("results/flights/{flight}/{eye}/animation.gif", caption="../report/flight.rst",
+                         category="Flights", subcategory="{flight}"),
+        flow_figure=report("results/flights/{flight}/{eye}/optic_flow.png", caption="../report/optic_flow.rst",
+                           category="Flights", subcategory="{flight}"),
+    params:
+        scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
+        spectral=config["spectral"],
+        fps=lambda w: config["flights"][w.flight]["fps"],
+        target=lambda w: config["flights"][w.flight].get("target"),
+        background=config["colour"]["background"],
+        receptor_curves=config["colour"]["sensitivities"],
+    log:
+        "results/logs/flights/{flight}/{eye}/gather.log",
+    resources:
+        mem_mb=4000,
+        runtime=60,
+    script:
+        "../scripts/flight.py"
