@@ -3,7 +3,8 @@
     python benchmarks/trace.py --eye worker --scene meadow --spp 256 --depth 3
 
 Uses results/eyes/<eye>/receptors.csv, building the eye first (in a child
-process, so that its memory is not counted) when it is missing. Then traces
+process, so that its memory is not counted) when it is missing, and a
+generated scene's mesh (the default meadow's), generating it when missing. Then traces
 both eyes on the full spectral grid, exactly as the workflow's trace stage
 does with ``--cores all`` (the config's batch size, one batch per core), and
 casts the same number of rays as the trace cast through Open3D's
@@ -36,6 +37,7 @@ from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples
 from beeoptics.pipeline.trace import gather_responses, trace_part
+from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.spectra import grid
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -79,6 +81,11 @@ def main():
     if not receptors_csv.exists():
         build_eye(ROOT / "eyes" / args.eye / "eye.yaml", receptors_csv)
     scene_file = ROOT / "scenes" / args.scene / "scene.yaml"
+    # A generated scene's mesh, as the workflow's meadow rule makes it, when it is not there yet
+    # (in a child process, as the eye, so that its memory is not counted).
+    if (scene_file.parent / MEADOW_FILE).exists() and not (scene_file.parent / MEADOW_MESH).exists():
+        subprocess.run([sys.executable, "-m", "beeoptics.cli", "meadow", str(scene_file.parent / MEADOW_FILE), "-o",
+                        str(scene_file.parent / MEADOW_MESH)], check=True)
     spectral = defaults["spectral"]
 
     with tempfile.TemporaryDirectory() as tmp:
