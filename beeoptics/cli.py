@@ -279,8 +279,7 @@ def daylight(args):
                 raise InputError("command line", option, f"{value:g} is outside {low:g}–{high:g}")
         albedo = ground_albedo(args.ground, wl, "command line", "--ground")
         light = clear_sky(wl, args.sun_elevation_deg, args.turbidity, albedo, args.day_of_year)
-        direct = light.direct_normal * np.sin(np.radians(light.elevation_deg))
-        diffuse = light.diffuse
+        direct, diffuse = light.direct_horizontal, light.diffuse
     write_daylight(args.output, wl, direct, diffuse)
     print(f"{args.output}: {len(wl)} wavelengths, {wl[0]:g}–{wl[-1]:g} nm; global irradiance at 550 nm "
           f"{np.interp(550.0, wl, direct + diffuse):.3g} W m-2 nm-1")

@@ -49,7 +49,8 @@ class Daylight(NamedTuple):
 
     ``direct_normal`` is the sun's irradiance on a surface facing it;
     ``diffuse`` the sky's on a horizontal surface; ``elevation_deg`` the
-    sun's elevation. :attr:`global_horizontal` adds the two on the ground.
+    sun's elevation. :attr:`direct_horizontal` is the sun's on the ground,
+    :attr:`global_horizontal` the two together.
     """
 
     wavelengths: np.ndarray
@@ -58,8 +59,12 @@ class Daylight(NamedTuple):
     elevation_deg: float
 
     @property
+    def direct_horizontal(self):
+        return self.direct_normal * np.sin(np.radians(self.elevation_deg))
+
+    @property
     def global_horizontal(self):
-        return self.direct_normal * np.sin(np.radians(self.elevation_deg)) + self.diffuse
+        return self.direct_horizontal + self.diffuse
 
 
 def angstrom_beta(turbidity):

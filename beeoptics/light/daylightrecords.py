@@ -46,10 +46,10 @@ def _datasets():
     return Path(spec.submodule_search_locations[0]) / "datasets"
 
 
-def _on_grid(wavelengths, records, onto):
-    """Records (n, k) on their grid, linearly onto ``onto``; gaps and negative noise read as zero."""
-    v = np.nan_to_num(np.asarray(records, float))
-    return np.maximum(np.array([np.interp(onto, wavelengths, r) for r in v]), 0.0)
+def _on_grid(wavelengths, records, onto, source="daylight", field="measured_daylight"):
+    """Records (n, k) on their grid, resampled onto ``onto`` (n, len(onto)); gaps and negative noise read as zero."""
+    v = np.nan_to_num(np.atleast_2d(np.asarray(records, float)))
+    return np.maximum(resample(wavelengths, v.T, np.asarray(onto, float), source, field).T, 0.0)
 
 
 @cache
@@ -81,10 +81,12 @@ def spitschan(wavelengths):
 
 
 def clear_like(records, wavelengths, reference, tolerance):
-    """Which records are within ``tolerance`` (a fraction) of ``reference``'s irradiance at 550 nm."""
-    at = np.interp(550.0, wavelengths, reference)
-    measured = np.array([np.interp(550.0, wavelengths, r) for r in np.atleast_2d(records)])
-    return np.abs(measured / at - 1.0) <= tolerance
+    """Which records (n, k) are within ``tolerance`` (a fraction) of ``reference``'s irradiance at 550 nm."""
+    wl = np.asarray(wavelengths, float)
+    k = int(np.clip(np.searchsorted(wl, 550.0) - 1, 0, len(wl) - 2))
+    u = (550.0 - wl[k]) / (wl[k + 1] - wl[k])
+    measured = (1.0 - u) * np.atleast_2d(records)[:, k] + u * np.atleast_2d(records)[:, k + 1]
+    return np.abs(measured / np.interp(550.0, wl, reference) - 1.0) <= tolerance
 
 
 def uv_ratios(wavelengths, irradiance, sensitivities):
@@ -160,5 +162,4 @@ def record(dataset, index, wavelengths, source="daylight", field="measured_dayli
         raise InputError(source, field, f"unknown measured daylight {dataset!r}; use granada or spitschan")
     if not 0 <= index < len(records):
         raise InputError(source, f"{field}.{dataset}", f"no record {index}: there are {len(records)}, from 0")
-    values = np.maximum(np.nan_to_num(records[index]), 0.0)
-    return resample(grid, values, np.asarray(wavelengths, float), source, f"{field}.{dataset}")
+    return _on_grid(grid, records[index], wavelengths, source, f"{field}.{dataset}")[0]

@@ -102,6 +102,8 @@ def generate(meadow, source="meadow.yaml"):
         spec = {**table[name], **entry.get("sizes", {})}
         rng = _rng(seed, (2 if group == "specimens" else 3, k))
         variants = [plant(spec, rng, upright="position_m" in entry) for _ in range(entry["variants"])]
+        # Parts named by their species once per variant, not once per placed triangle.
+        variants = [v._replace(parts=(f"{name}." + v.parts.astype(str)).astype(object)) for v in variants]
         if "position_m" in entry:
             xy = np.array([entry["position_m"]])
             feet = np.column_stack([xy, terrain.ground_height(x, y, h, xy)])
@@ -114,8 +116,7 @@ def generate(meadow, source="meadow.yaml"):
         for v, template in enumerate(variants):
             chosen = which == v
             if chosen.any():
-                placed = _instances(template, turns[chosen], feet[chosen])
-                meshes.append(placed._replace(parts=np.array([f"{name}.{p}" for p in placed.parts], dtype=object)))
+                meshes.append(_instances(template, turns[chosen], feet[chosen]))
         colours.update({f"{name}.{p}": _colour(c) for p, c in spec["colours"].items()})
 
     mesh = plants.join(meshes)
@@ -133,9 +134,10 @@ def write_ply(path, mesh, face_colours):
     colours (where a ray floret's base meets its tip) is split in two, so
     that each face's corners agree, which is how the scene reads them.
     """
-    corners = np.column_stack([mesh.faces.ravel(), np.repeat(_colour_keys(face_colours), 3)])
-    unique, inverse = np.unique(corners, axis=0, return_inverse=True)
-    vertices = mesh.vertices[unique[:, 0]]
+    # One key per (vertex, colour) pair; colours take 24 bits.
+    corners = (mesh.faces.ravel().astype(np.int64) << 24) | np.repeat(_colour_keys(face_colours), 3)
+    unique, inverse = np.unique(corners, return_inverse=True)
+    vertices = mesh.vertices[unique >> 24]
     rgba = np.column_stack([np.repeat(face_colours, 3, axis=0)[np.unique(inverse, return_index=True)[1]] / 255.0,
                             np.ones(len(unique))])
     ms = pymeshlab.MeshSet()

@@ -11,6 +11,12 @@ flora they come from); the shapes are simple named curves: a blade bends
 at constant curvature (an arc), a ray floret and a leaf are tapered
 straps, a bell and a funnel are surfaces of revolution.
 
+The proportions inside each form — a disc's dome, a ray floret's outline
+and overlap, a bell's flare and lobes, a funnel's profile, the wall
+between a bell's two sides — are drawing choices, not measurements: no
+flora gives them, and at the distances a bee sees a flower from they set
+its outline's detail, not its size or its colour.
+
 Grass blades are built all at once, vectorised over blades; a flowering
 plant is built once per variant and placed many times
 (:mod:`beeoptics.world.meadow`).

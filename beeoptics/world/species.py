@@ -20,6 +20,11 @@ sizes
     ``disc``, ``ray_base``, ``ray_tip``; ``bell_outer``, ``bell_inner``;
     ``corolla``, ``limb``, ``calyx``). The generated mesh carries them as
     face colours, which a scene's ``palette`` maps to measured spectra.
+
+How a plant is put together — how far a stem leans and bends, how a
+corymb domes, how far a pedicel arches, which way a flower faces — is
+drawn from ranges that are drawing choices (no flora gives them), marked
+where they are used; the sizes are the species'.
 """
 
 from functools import cache
@@ -67,6 +72,7 @@ def _draw(rng, spec, key, integer=False):
 
 def _stem(rng, height, upright):
     """A stem rising from the origin, leaning and bending a little unless upright: its points and its top's direction."""
+    # Drawing choice: up to 0.15 rad of lean and 0.3 rad of bend over the stem.
     lean, bend = (0.0, 0.0) if upright else (rng.uniform(0.0, 0.15), rng.uniform(0.0, 0.3) / height)
     points, _ = plants.arcs(np.array([height]), np.array([lean]), np.array([bend]),
                             np.array([rng.uniform(0, 2 * np.pi)]), 8)
@@ -124,6 +130,7 @@ def _corymb(rng, spec, top):
     # Sunflower (Vogel) spiral: evenly spread heads, as a corymb's are.
     r = radius * np.sqrt((np.arange(n) + 0.5) / n)
     a = np.arange(n) * np.pi * (3.0 - np.sqrt(5.0))
+    # Drawing choice: the corymb domes a quarter of its radius, 0.3 of it above the stem's top.
     lift = 0.25 * radius * (1.0 - (r / radius) ** 2)
     heads = top + np.column_stack([r * np.cos(a), r * np.sin(a), 0.3 * radius + lift])
     out = []
@@ -144,9 +151,10 @@ def _bells(rng, spec, points, top):
         base = points[-1 - min(k, len(points) - 2)]
         out_dir = np.array([np.cos(2.4 * k + rng.uniform()), np.sin(2.4 * k + rng.uniform()), 0.0])
         length = _draw(rng, spec, "corolla_length_m")
+        # Drawing choice: a pedicel reaches out 1.2 corolla lengths, arching up 0.3 of one.
         tip = base + 1.2 * length * out_dir + [0.0, 0.0, 0.3 * length]
         out.append(plants.tube([base, 0.5 * (base + tip) + [0, 0, 0.3 * length], tip], PEDICEL_RADIUS * length))
-        # Hanging: the bell's mouth points down and a little outwards.
+        # Hanging (drawing choice): the mouth points down, tilted 11–31° outwards.
         facing = -np.array([0.0, 0.0, 1.0]) + rng.uniform(0.2, 0.6) * out_dir
         bell = plants.bell(length, _draw(rng, spec, "corolla_diameter_m"))
         out.append(plants.transformed(bell, plants.rotation_to(facing), tip))
@@ -163,7 +171,7 @@ def _spike(rng, spec, points):
     out = []
     for k, p in enumerate(at):
         a = 2.4 * k  # one turn of the golden angle per flower
-        facing = [np.cos(a), np.sin(a), rng.uniform(0.3, 1.0)]
+        facing = [np.cos(a), np.sin(a), rng.uniform(0.3, 1.0)]  # drawing choice: outwards, 17–45° up
         flower = plants.funnel(_draw(rng, spec, "corolla_length_m"), _draw(rng, spec, "corolla_diameter_m"))
         out.append(plants.transformed(flower, plants.rotation_to(facing), p))
     return out

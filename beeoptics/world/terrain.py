@@ -18,7 +18,8 @@ from scipy.interpolate import RegularGridInterpolator
 
 from beeoptics.world.plants import Mesh
 
-#: The fraction of the patch, at each side, over which the ground falls to the level beyond.
+#: The fraction of the patch, at each side, over which the ground falls to the level beyond (a drawing
+#: choice: it only joins the patch to the flat ground).
 BORDER = 0.1
 
 
