@@ -5,7 +5,8 @@ global horizontal irradiance of the scene's sky and sun as the tracer sees
 them (the sky dome integrated over the hemisphere, plus the sun's disc):
 its UV/VIS photon ratio and UV/G catch ratio (Peitsch et al. 1992) beside
 the 10, 50 and 90th percentiles of the measured records like it
-(:mod:`beeoptics.light.daylightrecords`); then the diffuse irradiance
+(:mod:`beeoptics.light.daylightrecords`); how many of Granada's records
+lie inside both data sets' ranges at once; then the diffuse irradiance
 Hosek & Wilkie's own model gives, per channel, as a ratio to SPECTRL2's.
 
     .venv/bin/python benchmarks/daylight.py
@@ -16,7 +17,8 @@ import numpy as np
 from beeoptics.headframe import direction_from_x_towards_y
 from beeoptics.light import hosekwilkie
 from beeoptics.light.daylight import clear_sky
-from beeoptics.light.daylightrecords import measured_ranges
+from beeoptics.light.daylightrecords import (GRANADA_TOLERANCE, SPITSCHAN_FROM_NM, clear_like, granada,
+                                             measured_ranges, uv_ratios)
 from beeoptics.light.materials import ground_albedo
 from beeoptics.light.sky import _hemisphere, clear_sky_dome, horizontal_irradiance
 from beeoptics.light.sun import sun_disc
@@ -50,6 +52,19 @@ def main():
             row += (f"  {m['uv_vis'][1]:.3f} [{m['uv_vis'][0]:.3f}–{m['uv_vis'][2]:.3f}]  {m['model_uv_g']:.3f}"
                     f"  {m['uv_g'][1]:.3f} [{m['uv_g'][0]:.3f}–{m['uv_g'][2]:.3f}] |") if m["n"] else "  (no records) |"
         print(row)
+    print("\nThe two records disagree: Granada's records inside Granada's own 10–90 % (both ratios, from 300 nm)"
+          " that are also inside Spitschan's (from 360 nm):")
+    late = wl >= SPITSCHAN_FROM_NM
+    for elevation in (10, 30, 50):
+        _, light = scene_light(wl, elevation, albedo)
+        r = measured_ranges(wl, light, elevation, s)
+        records = granada(wl)
+        records = records[clear_like(records, wl, light, GRANADA_TOLERANCE)]
+        inside = np.ones(len(records), bool)
+        for name, cut in (("granada", slice(None)), ("spitschan", late)):
+            for ratio, values in zip(("uv_vis", "uv_g"), uv_ratios(wl[cut], records[:, cut], s[cut])):
+                inside &= (values >= r[name][ratio][0]) & (values <= r[name][ratio][2])
+        print(f"{elevation:3d}° | {inside.sum()} of {len(records)}")
     print("\nHosek & Wilkie's own diffuse irradiance / SPECTRL2's, per channel (nm):")
     print("sun  | " + " ".join(f"{c:5.0f}" for c in hosekwilkie.CHANNELS_NM))
     d = _hemisphere()

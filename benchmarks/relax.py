@@ -6,7 +6,9 @@ Remeshes the eye (not timed), then places and relaxes its facets. The last
 line printed is one JSON object: eye, facets (per eye), seconds (the
 relaxation alone), iterations, stage_seconds (the whole facet stage, with
 grid projection, facet map, receptor table and quality figures) and
-peak_memory_mb (the process's peak resident memory).
+peak_memory_mb (the process's peak resident memory). With ``--quality``, the
+eye's quality figures are kept in that file, to compare a change's lattice
+with the one before it.
 """
 
 import argparse
@@ -26,6 +28,7 @@ def main():
     parser.add_argument("--eye", default="worker", help="eye class, a folder of --eyes-dir (default: worker)")
     parser.add_argument("--eyes-dir", default=Path(__file__).resolve().parents[1] / "eyes", type=Path)
     parser.add_argument("--tolerance-um", type=float, default=0.05, help="relaxation tolerance, µm (default 0.05)")
+    parser.add_argument("--quality", type=Path, help="copy the eye's quality.json here")
     args = parser.parse_args()
     eye = args.eyes_dir / args.eye / "eye.yaml"
     with tempfile.TemporaryDirectory() as tmp:
@@ -36,6 +39,8 @@ def main():
                      tolerance_um=args.tolerance_um, acceptance=AcceptanceModel())
         stage_seconds = time.perf_counter() - start
         quality = json.loads((out / "quality.json").read_text())
+        if args.quality is not None:
+            args.quality.write_text((out / "quality.json").read_text())
     print(f"{args.eye}: {quality['facets_per_eye']} facets relaxed in {quality['relaxation']['seconds']:.1f} s "
           f"({quality['relaxation']['iterations']} iterations)")
     print(json.dumps({

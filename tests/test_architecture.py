@@ -8,13 +8,14 @@ from conftest import ROOT
 
 PACKAGE = ROOT / "beeoptics"
 #: Modules every stage may use.
-SHARED = {"spectra", "headframe", "raycasting", "_exports"}
+SHARED = {"spectra", "headframe", "raycasting", "jit", "_exports"}
 #: What each part of the package may import: eye → light → vision → images, io below all,
 #: pipeline and the command-line tool above all. Vision sees neither scenes nor eyes.
 ALLOWED = {
     "_exports": set(),
     "headframe": set(),
     "raycasting": set(),
+    "jit": set(),
     "io": {"io", "headframe", "_exports"},
     "spectra": {"io"},
     "eye": {"eye", "io", *SHARED},

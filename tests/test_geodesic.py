@@ -26,6 +26,20 @@ def test_geodesic_spacing_on_a_sphere_matches_great_circle_distance():
     assert np.all(got >= chord * (1 - 2e-4))
 
 
+def test_pairs_measured_in_batches_match_pairs_measured_alone():
+    # The patches of many pairs are laid out side by side and measured a batch at a time:
+    # each pair must come out as if it had its own MMP run.
+    v, f = cap_mesh(0.5, 80.0)
+    rng = np.random.default_rng(5)
+    p = rng.normal(size=(400, 3))
+    p[:, 2] = np.abs(p[:, 2]) + 1.0
+    points, faces = MeshQuery(v, f).project(p / np.linalg.norm(p, axis=1, keepdims=True) * 0.5)
+    pairs = cKDTree(points).query_pairs(0.08, output_type="ndarray")[:50]
+    together = pair_distances(v, f, points, faces, pairs)
+    alone = np.concatenate([pair_distances(v, f, points, faces, pair[None]) for pair in pairs])
+    np.testing.assert_array_equal(together, alone)
+
+
 def test_points_on_one_face_are_a_straight_segment_apart():
     v, f = cap_mesh(1.0, 40.0)
     tri = v[f[0]]

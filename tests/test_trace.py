@@ -9,7 +9,7 @@ from beeoptics.light.batching import SAMPLE_BLOCK, TraceSettings, trace_bundles
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.sampler import tangent_frames
 from beeoptics.light.scene import load_scene
-from beeoptics.light.sensors import cone_samples
+from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.pipeline.trace import trace_part
 from conftest import ROOT, write_scene
 
@@ -168,3 +168,37 @@ def test_a_trace_in_blocks_is_bit_identical_however_it_is_batched_and_threaded(t
     """2,500 samples a receptor: blocks of 1,024, 1,024 and 452, batched two ways."""
     first, second = traced_fan(tmp_path, 6, 4, 2500, 2, 20, [(1024, 1), (4096, 2)])
     np.testing.assert_array_equal(first, second)
+
+
+@pytest.mark.parametrize("delta_rho", [2.6, 10.0])
+def test_the_sun_swept_across_a_cone_is_resolved_with_little_noise(tmp_path, wavelengths, delta_rho):
+    # A receptor's direct sunlight is L ∫A dω over the disc, over ∫A dω over the sphere.
+    # Cone samples alone hit the 0.27° disc a few times in a thousand: at 64 samples a
+    # receptor saw the sky alone or a flash tens of times too bright. Sampling the disc
+    # too, weighed against the cone's samples (Veach 1997), leaves little noise.
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "sun", "light": {"sky": "none", "sun": True, "sun_elevation_deg": 40.0, "sun_azimuth_deg": 0.0},
+        "eye": {"position_m": [0, 0, 0]}, "materials": {"grey": {"reflectance": 0.3}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0}}, "material": "grey", "translate_m": [0, 0, -1.0e4]}]})
+    scene = load_scene(path, wavelengths)
+    sigma = cone_sigma(delta_rho)
+    offsets = np.radians(np.linspace(0.0, 2.0 * delta_rho, 9))
+    elevation = np.radians(40.0) + offsets
+    axes = np.column_stack([np.cos(elevation), np.zeros_like(elevation), np.sin(elevation)])
+    seen = np.array([trace_paths(scene, np.zeros((len(axes), 3)), *cone_samples(axes, delta_rho, 64, seed),
+                                 depth=1, seed=seed, cones=(axes, np.full(len(axes), sigma)))[:, 40]
+                     for seed in range(1, 9)])
+    theta = np.linspace(0.0, np.pi, 200_001)
+    z = 2.0 * np.pi * np.trapezoid(np.exp(-0.5 * (theta / sigma) ** 2) * np.sin(theta), theta)
+    # The disc's mean acceptance, by a polar midpoint grid uniform over its solid angle.
+    u = (np.arange(400) + 0.5) / 400
+    cos_a, phi = np.meshgrid(1.0 - u * (1.0 - scene.sun.cos_radius), 2 * np.pi * u, indexing="ij")
+    around_sun = np.stack([np.sqrt(1 - cos_a**2) * np.cos(phi), np.sqrt(1 - cos_a**2) * np.sin(phi), cos_a], -1)
+    frame = tangent_frames(scene.sun.direction[None])[0]
+    disc = around_sun[..., :1] * frame[0] + around_sun[..., 1:2] * frame[1] + around_sun[..., 2:] * scene.sun.direction
+    mean_a = [np.exp(-0.5 * (np.arccos(np.clip(disc @ a, -1, 1)) / sigma) ** 2).mean() for a in axes]
+    want = scene.sun.radiance[40] * scene.sun.solid_angle * np.array(mean_a) / z
+    # Out to twice Δρ from the axis, where the receptor takes 10⁻⁵ of its peak: the
+    # mean of eight seeds within 1 %, each seed's noise below 3 % (measured: 0.7–2.2 %).
+    np.testing.assert_allclose(seen.mean(0), want, rtol=0.01)
+    assert (seen.std(0) / want).max() < 0.03

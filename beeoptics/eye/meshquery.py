@@ -8,6 +8,8 @@ libigl AABB tree of the mesh so that it is built once.
 import igl
 import numpy as np
 
+from beeoptics.jit import kernel
+
 
 class MeshQuery:
     """A triangle mesh with its AABB tree, for closest-point and barycentric queries.
@@ -37,8 +39,8 @@ class MeshQuery:
         dual = np.hstack([(d22[:, None] * e1 - d12[:, None] * e2) / det, (d11[:, None] * e2 - d12[:, None] * e1) / det])
         # Corner, normal and dual basis side by side: one gather per point, the relaxation's hot path.
         self._frame = np.ascontiguousarray(np.hstack([self._corner, self.face_normals, dual]))
-        # libigl's edge k of a face runs from corner k to corner k+1.
-        self._open_edge = igl.triangle_triangle_adjacency(self.faces)[0] < 0
+        # A face on the rim has an edge with no face across it.
+        self._rim_face = (igl.triangle_triangle_adjacency(self.faces)[0] < 0).any(1)
 
     def project(self, points):
         """Closest points on the mesh and the faces that hold them."""
@@ -55,30 +57,19 @@ class MeshQuery:
         looked up in the AABB tree. Same contract as :meth:`project`, for
         moves shorter than a triangle.
         """
-        frame = self._frame[faces]
-        relative = points - frame[:, :3]
-        normal = frame[:, 3:6]
-        relative -= np.einsum("kj,kj->k", relative, normal)[:, None] * normal
-        s = np.einsum("kj,kj->k", frame[:, 6:9], relative)
-        t = np.einsum("kj,kj->k", frame[:, 9:12], relative)
-        left = (s < 0.0) | (t < 0.0) | (s + t > 1.0)
-        onto = frame[:, :3] + relative
-        faces = np.array(faces)
+        faces = np.array(faces, np.int64)
+        onto, left = _onto_own_faces(self._frame, np.ascontiguousarray(points, dtype=np.float64), faces)
         if left.any():
             onto[left], faces[left] = self.project(points[left])
         return onto, faces
 
     def on_rim_face(self, faces):
         """Whether each face has an edge on the mesh boundary."""
-        return self._open_edge[faces].any(1)
+        return self._rim_face[faces]
 
     def barycentric(self, points, faces):
         """Barycentric coordinates of points (in their faces' planes) within their faces, shape (k, 3)."""
-        frame = self._frame[faces]
-        relative = np.asarray(points, float) - frame[:, :3]
-        s = np.einsum("kj,kj->k", frame[:, 6:9], relative)
-        t = np.einsum("kj,kj->k", frame[:, 9:12], relative)
-        return np.column_stack([1.0 - s - t, s, t])
+        return _barycentric(self._frame, np.ascontiguousarray(points, dtype=np.float64), np.asarray(faces, np.int64))
 
     def interpolate(self, values, points, faces):
         """Per-vertex ``values`` interpolated linearly at points on the mesh."""
@@ -88,3 +79,37 @@ class MeshQuery:
         if values.ndim == 1:
             return (corners * bary).sum(1)
         return np.einsum("kj,kjd->kd", bary, corners)
+
+
+@kernel
+def _onto_own_faces(frame, points, faces):
+    """Each point projected onto the plane of its face, and whether it landed outside the triangle.
+
+    Compiled: the relaxation slides every particle at every step, and the
+    gathers and temporaries of the same in NumPy cost more than the arithmetic.
+    """
+    onto = np.empty_like(points)
+    left = np.empty(len(points), np.bool_)
+    for k in range(len(points)):
+        f = frame[faces[k]]
+        r0, r1, r2 = points[k, 0] - f[0], points[k, 1] - f[1], points[k, 2] - f[2]
+        up = r0 * f[3] + r1 * f[4] + r2 * f[5]
+        r0, r1, r2 = r0 - up * f[3], r1 - up * f[4], r2 - up * f[5]
+        s = f[6] * r0 + f[7] * r1 + f[8] * r2
+        t = f[9] * r0 + f[10] * r1 + f[11] * r2
+        left[k] = s < 0.0 or t < 0.0 or s + t > 1.0
+        onto[k, 0], onto[k, 1], onto[k, 2] = f[0] + r0, f[1] + r1, f[2] + r2
+    return onto, left
+
+
+@kernel
+def _barycentric(frame, points, faces):
+    """Barycentric coordinates of points in the planes of their faces, compiled as :func:`_onto_own_faces`."""
+    bary = np.empty((len(points), 3))
+    for k in range(len(points)):
+        f = frame[faces[k]]
+        r0, r1, r2 = points[k, 0] - f[0], points[k, 1] - f[1], points[k, 2] - f[2]
+        s = f[6] * r0 + f[7] * r1 + f[8] * r2
+        t = f[9] * r0 + f[10] * r1 + f[11] * r2
+        bary[k, 0], bary[k, 1], bary[k, 2] = 1.0 - s - t, s, t
+    return bary

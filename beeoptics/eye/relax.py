@@ -21,6 +21,11 @@ exact geodesics over the mesh (libigl), and the system is run to rest on
 those lengths, until no particle moves by more than the tolerance in a
 step; the Delaunay neighbours of the final lattice are measured the same way.
 
+A step's loops over springs and particles are compiled (numba) and serial,
+so that every sum runs in one order and the lattice comes out the same to
+the bit on every run, whatever the number of threads; libigl still puts
+the particles back on the mesh, and scipy's KD-tree lists the pairs.
+
 References
 ----------
 Collins S. Reconstructing the visual field of compound eyes. §4.1.
@@ -38,6 +43,7 @@ from scipy.spatial import cKDTree
 
 from beeoptics.eye.geodesic import pair_distances
 from beeoptics.eye.lattice import MAX_EDGE, neighbour_edges
+from beeoptics.jit import kernel
 
 #: Rest length over filling spacing. Above one keeps every spring compressed.
 SQUEEZE = 1.08
@@ -71,14 +77,105 @@ class Relaxation(NamedTuple):
     snapshots: list
 
 
-def _spring_forces(points, edges, rest, delta, chord, lengths):
-    strain = np.clip((rest - lengths) / rest, 0.0, None)
-    push = delta * (strain / chord)[:, None]
-    n = len(points)
-    force = np.empty_like(points)
-    for k in range(3):
-        force[:, k] = np.bincount(edges[:, 1], push[:, k], n) - np.bincount(edges[:, 0], push[:, k], n)
+@kernel
+def _spring_forces(points, springs, rest, ratio, scale, face_normals, faces):
+    """The push of the compressed springs on each particle, times ``scale``, in the plane of its face.
+
+    A spring's length is its chord times its ``ratio``. The sums run over
+    the springs in order, so that they come out the same on every run.
+    """
+    force = np.zeros_like(points)
+    for k in range(len(springs)):
+        i, j = springs[k, 0], springs[k, 1]
+        d0, d1, d2 = points[j, 0] - points[i, 0], points[j, 1] - points[i, 1], points[j, 2] - points[i, 2]
+        chord = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        strain = (rest[k] - chord * ratio[k]) / rest[k]
+        if strain > 0.0:
+            push = strain / chord
+            force[j, 0] += push * d0
+            force[j, 1] += push * d1
+            force[j, 2] += push * d2
+            force[i, 0] -= push * d0
+            force[i, 1] -= push * d1
+            force[i, 2] -= push * d2
+    for i in range(len(points)):
+        n = face_normals[faces[i]]
+        f0, f1, f2 = force[i, 0] * scale[i], force[i, 1] * scale[i], force[i, 2] * scale[i]
+        up = f0 * n[0] + f1 * n[1] + f2 * n[2]
+        force[i, 0], force[i, 1], force[i, 2] = f0 - up * n[0], f1 - up * n[1], f2 - up * n[2]
     return force
+
+
+@kernel
+def _fire_step(points, force, previous_force, velocity, own_step, on_rim, dt, mix, calm):
+    """One step of FIRE, with the particles caught in a corner of the rim on their own step.
+
+    Updates ``velocity`` and ``own_step`` in place. Returns where the
+    particles go (before they are put back on the mesh), which are caught,
+    and FIRE's new ``dt``, ``mix`` and ``calm``.
+    """
+    n = len(points)
+    # A particle in a rim face whose force keeps turning round is caught in
+    # a corner of the rim, where the force never vanishes: it gets its own
+    # step, halved at each reversal so that it settles into the corner, and
+    # is left out of FIRE's bookkeeping so that it cannot stall the rest.
+    caught = np.zeros(n, np.bool_)
+    for i in range(n):
+        turn = force[i, 0] * previous_force[i, 0] + force[i, 1] * previous_force[i, 1] + force[i, 2] * previous_force[i, 2]
+        caught[i] = on_rim[i] and turn < 0.0
+        if caught[i]:
+            own_step[i] *= 0.5
+            velocity[i] = 0.0
+        else:
+            own_step[i] = min(1.0, 2.0 * own_step[i])
+    power, speed2, force2 = 0.0, 0.0, 0.0
+    for i in range(n):
+        for c in range(3):
+            power += force[i, c] * velocity[i, c]
+            speed2 += velocity[i, c] * velocity[i, c]
+            force2 += force[i, c] * force[i, c]
+    # Steer the velocity towards the force while going downhill, lengthen the
+    # step after a calm run, stop dead when going uphill.
+    if power >= 0.0:
+        steer = mix * np.sqrt(speed2) / max(np.sqrt(force2), 1e-300)
+        for i in range(n):
+            for c in range(3):
+                velocity[i, c] = (1.0 - mix) * velocity[i, c] + steer * force[i, c]
+        calm += 1
+        if calm > FIRE_CALM:
+            dt, mix = min(dt * FIRE_GROW, FIRE_DT_MAX), mix * FIRE_MIX_DECAY
+    else:
+        velocity[:] = 0.0
+        dt, mix, calm = max(dt * FIRE_SHRINK, FIRE_DT_MIN), FIRE_MIX, 0
+    proposed = np.empty_like(points)
+    for i in range(n):
+        for c in range(3):
+            velocity[i, c] += force[i, c] * dt
+            proposed[i, c] = points[i, c] + velocity[i, c] * (dt * own_step[i])
+    return proposed, caught, dt, mix, calm
+
+
+@kernel
+def _settle(points, moved_to, built_at, half_skin, force, caught, own_step, velocity, dt):
+    """Take the moves the mesh allowed as the velocity (in place).
+
+    Returns the furthest any particle is from where the pair list was built,
+    in its ``half_skin``, and how far the lattice is from rest: the step each
+    particle would make from rest, its force, whatever FIRE's own step; a
+    particle caught in a corner is as far from rest as its last move.
+    """
+    drift, largest2 = 0.0, 0.0
+    for i in range(len(points)):
+        moved2, away2, force2 = 0.0, 0.0, 0.0
+        for c in range(3):
+            moved = moved_to[i, c] - points[i, c]
+            velocity[i, c] = moved / dt
+            moved2 += moved * moved
+            away2 += (moved_to[i, c] - built_at[i, c]) ** 2
+            force2 += force[i, c] * force[i, c]
+        drift = max(drift, np.sqrt(away2) / half_skin[i])
+        largest2 = max(largest2, moved2 if caught[i] or own_step[i] < 1.0 else force2)
+    return drift, np.sqrt(largest2)
 
 
 def fill_factor(query, diameters):
@@ -121,9 +218,25 @@ def _geodesic_ratio(query, points, faces, pairs, known=None):
 
 def _near_pairs(points, target):
     pairs = cKDTree(points).query_pairs(SKIN * SQUEEZE * target.max(), output_type="ndarray")
-    rest = SQUEEZE * 0.5 * (target[pairs[:, 0]] + target[pairs[:, 1]])
-    keep = _lengths(points, pairs) < SKIN * rest
+    keep, rest = _within_skin(points, pairs, target)
     return pairs[keep], rest[keep]
+
+
+@kernel
+def _within_skin(points, pairs, target):
+    """Whether each pair is closer than ``SKIN`` rest lengths, and its rest length.
+
+    Compiled: where facet sizes vary, the KD-tree's single radius lists
+    several times more pairs than are kept.
+    """
+    keep = np.empty(len(pairs), np.bool_)
+    rest = np.empty(len(pairs))
+    for k in range(len(pairs)):
+        i, j = pairs[k, 0], pairs[k, 1]
+        rest[k] = SQUEEZE * 0.5 * (target[i] + target[j])
+        chord2 = (points[j, 0] - points[i, 0]) ** 2 + (points[j, 1] - points[i, 1]) ** 2 + (points[j, 2] - points[i, 2]) ** 2
+        keep[k] = chord2 < (SKIN * rest[k]) ** 2
+    return keep, rest
 
 
 def relax(
@@ -172,73 +285,48 @@ def relax(
         If the lattice is not still after ``max_iterations``.
     """
     points = np.array(points, float)
-    faces = np.array(faces)
+    faces = np.array(faces, np.int64)
     fill = fill_factor(query, query.interpolate(diameters, points, faces))
     velocity = np.zeros_like(points)
     dt, mix, calm = 1.0, FIRE_MIX, 0
     snapshots = []
-    ratio = None
+    known = None
     previous_force = np.zeros_like(points)
     own_step = np.ones(len(points))
-    drift, rest_min = np.inf, 0.0
+    drift = np.inf
     for iteration in range(max_iterations):
         if iteration in snapshot_at:
             snapshots.append((iteration, points.copy()))
-        # Rebuild the pair list before any particle can have crossed its skin;
-        # once springs are measured along the surface, measure the new ones too.
-        if drift > 0.5 * (SKIN - 1.0) * rest_min:
+        # Rebuild the pair list before a pair it left out can have come within
+        # its rest length: a pair's skin is (SKIN − 1) rest lengths, the mean
+        # of its ends', so it holds while each particle has moved less than
+        # half of that at its own target. Once springs are measured along the
+        # surface, measure the new ones too.
+        if drift > 1.0:
             target = query.interpolate(diameters, points, faces)
             springs, rest = _near_pairs(points, fill * target)
-            rest_min = SQUEEZE * fill * target.min()
+            half_skin = 0.5 * (SKIN - 1.0) * SQUEEZE * fill * target
             built_at, drift = points.copy(), 0.0
-            if ratio is not None:
+            if known is None:
+                ratio = np.ones(len(springs))
+            else:
                 ratio, known = _geodesic_ratio(query, points, faces, springs, known)
-        delta = points[springs[:, 1]] - points[springs[:, 0]]
-        chord = np.sqrt((delta**2).sum(1))
-        lengths = chord if ratio is None else chord * ratio
-        force = _spring_forces(points, springs, rest, delta, chord, lengths) * (step * target)[:, None]
-        normal = query.face_normals[faces]
-        force -= (force * normal).sum(1, keepdims=True) * normal
+        force = _spring_forces(points, springs, rest, ratio, step * target, query.face_normals, faces)
         # The rim holds back what pushes a particle off the eye: near it, the
         # force becomes the step it can actually make, projected onto the mesh.
         on_rim = query.on_rim_face(faces)
         rim = np.flatnonzero(on_rim)
         force[rim] = query.project(points[rim] + force[rim])[0] - points[rim]
-        # A particle in a rim face whose force keeps turning round is caught in
-        # a corner of the rim, where the force never vanishes: it gets its own
-        # step, halved at each reversal so that it settles into the corner, and
-        # is left out of FIRE's bookkeeping so that it cannot stall the rest.
-        caught = ((force * previous_force).sum(1) < 0.0) & on_rim
-        own_step = np.where(caught, 0.5 * own_step, np.minimum(1.0, 2.0 * own_step))
-        velocity[caught] = 0.0
+        proposed, caught, dt, mix, calm = _fire_step(points, force, previous_force, velocity, own_step, on_rim,
+                                                     dt, mix, calm)
         previous_force = force
-        # FIRE: steer the velocity towards the force while going downhill,
-        # lengthen the step after a calm run, stop dead when going uphill.
-        power = (force * velocity).sum()
-        if power >= 0.0:
-            velocity = (1.0 - mix) * velocity + mix * force * (
-                np.linalg.norm(velocity) / max(np.linalg.norm(force), 1e-300)
-            )
-            calm += 1
-            if calm > FIRE_CALM:
-                dt, mix = min(dt * FIRE_GROW, FIRE_DT_MAX), mix * FIRE_MIX_DECAY
-        else:
-            velocity[:] = 0.0
-            dt, mix, calm = max(dt * FIRE_SHRINK, FIRE_DT_MIN), FIRE_MIX, 0
-        velocity += force * dt
-        moved_to, faces = query.slide(points + velocity * (dt * own_step[:, None]), faces)
-        moved = moved_to - points
-        velocity = moved / dt
+        moved_to, faces = query.slide(proposed, faces)
+        drift, largest = _settle(points, moved_to, built_at, half_skin, force, caught, own_step, velocity, dt)
         points = moved_to
-        drift = np.sqrt(((points - built_at) ** 2).sum(1).max())
-        # How far the lattice is from rest: the step each particle would make
-        # from rest, its force, whatever FIRE's own step; a particle caught in
-        # a corner is as far from rest as its last move.
-        largest = np.sqrt(np.where(caught | (own_step < 1.0), (moved**2).sum(1), (force**2).sum(1)).max())
         if progress is not None:
             progress(iteration, largest)
         if largest < tolerance:
-            if ratio is not None:
+            if known is not None:
                 break
             # Still under chords: from here on springs are measured along the surface.
             ratio, known = _geodesic_ratio(query, points, faces, springs)

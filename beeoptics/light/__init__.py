@@ -6,7 +6,8 @@ cones, the pinhole camera), surface scattering (:mod:`.scattering`), the
 emitters (:mod:`.emitters`, with the sky and sun of :mod:`.sky` and
 :mod:`.sun`, lit by the clear-sky daylight of :mod:`.daylight` and shaped by
 :mod:`.hosekwilkie`) and the integrator that joins them (:mod:`.integrator`),
-traced in batches on threads (:mod:`.batching`). Scenes are read by
+traced in batches on threads (:mod:`.batching`); what lies between two
+Embree casts is compiled (:mod:`beeoptics.jit`). Scenes are read by
 :mod:`.scene`, their spectra by :mod:`.materials` and :mod:`.fred`.
 """
 
@@ -18,14 +19,14 @@ __all__, __getattr__ = exports(__name__, {
     "materials": ("ground_albedo", "material", "spectrum"),
     "fred": ("catalogue", "find", "matching", "median_reflectance", "reflectance"),
     "daylight": ("Daylight", "angstrom_beta", "clear_sky", "write_daylight"),
-    "hosekwilkie": ("CHANNELS_NM", "channel_radiance", "channel_weights"),
+    "hosekwilkie": ("CHANNELS_NM", "channel_radiance", "channel_shape", "channel_weights", "shape_radiance"),
     "sky": ("CLEAR_SKIES", "Sky", "cie_daylight", "clear_sky_dome", "horizontal_irradiance", "luminance",
             "sky_coefficients", "uniform_sky"),
     "sun": ("Sun", "sun_disc"),
-    "sampler": ("around", "shifted_halton", "tangent_frames", "uniform"),
-    "sensors": ("cone_samples", "pinhole_rays"),
-    "scattering": ("Surfaces", "lambert", "phong", "scatter"),
-    "emitters": ("Lights", "sample_sun", "sees_sun"),
+    "sampler": ("around", "shifted_halton", "tangent_frame", "tangent_frames", "uniform", "uniform1"),
+    "sensors": ("cone_density", "cone_samples", "cone_sigma", "pinhole_rays"),
+    "scattering": ("Surfaces", "phong", "scatter"),
+    "emitters": ("Lights", "sample_sun"),
     "integrator": ("trace_paths",),
     "batching": ("SAMPLE_BLOCK", "TraceSettings", "trace_bundles"),
 })

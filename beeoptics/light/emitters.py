@@ -7,8 +7,10 @@ numbered in one table, so that a contribution names its spectrum by an
 integer and the integrator weighs each spectrum once.
 
 The sun is seen directly when a path's first segment points into its disc,
-and is sampled by next-event estimation from every surface the path meets,
-uniformly over the disc's solid angle (Veach 1997).
+and is sampled uniformly over the disc's solid angle (:func:`sample_sun`)
+by next-event estimation from every surface a path meets and, in a
+receptor's cone, against the cone's own samples (Veach 1997; see
+:mod:`beeoptics.light.integrator`).
 
 References
 ----------
@@ -18,6 +20,7 @@ PhD thesis, Stanford University.
 
 import numpy as np
 
+from beeoptics.jit import kernel
 from beeoptics.light.sampler import around
 
 
@@ -46,12 +49,8 @@ class Lights:
         self.glows = scene.emission.max(axis=1) > 0.0
 
 
-def sees_sun(sun, directions):
-    """Whether each unit direction (n, 3) points into the sun's disc."""
-    return (directions * sun.direction).sum(1) >= sun.cos_radius
-
-
-def sample_sun(sun, u_cos, u_phi):
-    """Directions towards the sun's disc, uniform over its solid angle, from two uniform numbers each."""
-    cos_a = 1.0 - u_cos * (1.0 - sun.cos_radius)
-    return around(sun.direction, cos_a, 2 * np.pi * u_phi)
+@kernel
+def sample_sun(direction, cos_radius, u_cos, u_phi):
+    """A direction towards the sun's disc (``direction``, ``cos_radius``), uniform over its solid angle."""
+    cos_a = 1.0 - u_cos * (1.0 - cos_radius)
+    return around(direction[0], direction[1], direction[2], cos_a, 2.0 * np.pi * u_phi)

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
 
 from beeoptics.io.errors import InputError
 from beeoptics.spectra import resample
@@ -48,14 +49,22 @@ def _spectra():
     return pd.read_feather(database_path(), columns=SPECTRUM)
 
 
+@cache
+def _metadata():
+    # Only the metadata columns: the whole file, spectra included, takes a second to read.
+    names = pa.ipc.open_file(database_path()).schema.names
+    return pd.read_feather(database_path(), columns=[c for c in names if c not in SPECTRUM[1:]]).drop_duplicates(
+        "data_id")
+
+
 def catalogue():
     """One row of metadata per spectrum (a pandas DataFrame)."""
-    return pd.read_feather(database_path()).drop(columns=SPECTRUM[1:]).drop_duplicates("data_id")
+    return _metadata().copy()
 
 
 def matching(source="FReD", field="fred", **query):
     """The ``data_id`` of every spectrum matching ``query`` (keys of :data:`FIELDS`, case ignored)."""
-    rows = catalogue()
+    rows = _metadata()
     for key, value in query.items():
         if key not in FIELDS:
             raise InputError(source, f"{field}.{key}", f"unknown FReD field; use one of {sorted(FIELDS)}")

@@ -18,6 +18,10 @@ channels the radiance is interpolated linearly in wavelength, as in the
 authors' reference implementation; outside 320–720 nm each end channel's
 distribution is kept.
 
+The formula is evaluated in compiled code (:func:`shape_radiance`), one
+direction at a time, by the tracer as by the sky's quadrature. With C = 1
+and G = I = 0 it is Perez et al.'s (1993), which the Preetham sky uses.
+
 References
 ----------
 Hosek L, Wilkie A (2012) An analytic model for full spectral sky-dome
@@ -30,10 +34,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from beeoptics.jit import kernel
+
 TABLE_FILE = Path(__file__).parent / "data" / "sky_hosek_wilkie2012.csv"
 #: Centres of the model's channels, nm (Hosek & Wilkie 2012).
 CHANNELS_NM = np.arange(320.0, 721.0, 40.0)
 _PARAMS = list("ABCDEFGHI")
+#: Added to cos θ under B, which keeps e^{B / cos θ} finite at the horizon, as in Hosek & Wilkie's (2012) formula.
+COS_OFFSET = 0.01
 
 
 @cache
@@ -57,6 +65,60 @@ def _cook(table, turbidity, albedo, elevation_rad):
     return (1.0 - a) * by_albedo[:, 0] + a * by_albedo[:, 1]
 
 
+@kernel
+def shape_radiance(x, y, z, sun, shape, cos_floor, cos_offset, hemisphere, out):
+    """The formula's value along the unit direction (x, y, z), one per row of ``shape``, into ``out``.
+
+    Parameters
+    ----------
+    x, y, z : float
+        The view direction, world +z up.
+    sun : ndarray, shape (3,)
+        Unit direction towards the sun.
+    shape : ndarray, shape (k, 10)
+        A–I and L_M of each row (channel or basis spectrum).
+    cos_floor, cos_offset : float
+        cos θ is held at or above ``cos_floor``, and ``cos_offset`` is added
+        to it under B (0 and 0.01 for Hosek & Wilkie, cos(π/2 − 10⁻³) and 0
+        for Perez, whose B/cos θ is singular at the horizon).
+    hemisphere : bool
+        Dark below the horizon.
+    out : ndarray, shape (k,)
+        W m⁻² sr⁻¹ nm⁻¹ (the fitted formula's few dips below zero read as 0).
+    """
+    if hemisphere and z <= 0.0:
+        out[:] = 0.0
+        return
+    cos_t = min(max(z, cos_floor), 1.0)
+    cos_g = min(max(x * sun[0] + y * sun[1] + z * sun[2], -1.0), 1.0)
+    gamma = np.arccos(cos_g)
+    for k in range(shape.shape[0]):
+        a, b, c, d, e, f, g, h, i, l_m = shape[k]
+        t = 1.0 + h * h - 2.0 * h * cos_g
+        mie = (1.0 + cos_g * cos_g) / (t * np.sqrt(t))
+        # A = 0 (a uniform sky) leaves B/cos θ out, which is undefined at the horizon.
+        gradation = 1.0 + a * np.exp(b / (cos_t + cos_offset)) if a != 0.0 else 1.0
+        value = gradation * (c + d * np.exp(e * gamma) + f * cos_g * cos_g + g * mie + i * np.sqrt(cos_t)) * l_m
+        out[k] = max(value, 0.0)
+
+
+@kernel
+def shape_radiances(directions, sun, shape, cos_floor, cos_offset, hemisphere):
+    """:func:`shape_radiance` along each of ``directions`` (n, 3): shape (n, k)."""
+    out = np.empty((len(directions), shape.shape[0]))
+    for n in range(len(directions)):
+        shape_radiance(directions[n, 0], directions[n, 1], directions[n, 2], sun, shape, cos_floor, cos_offset,
+                       hemisphere, out[n])
+    return out
+
+
+def channel_shape(sun_direction, turbidity, albedo):
+    """The formula's A–I and L_M (11, 10) in each channel for this sun, turbidity and albedo (11,)."""
+    coeffs, mean = _tables()
+    elevation = np.arcsin(np.clip(sun_direction[2], 0.0, 1.0))
+    return np.column_stack([_cook(coeffs, turbidity, albedo, elevation), _cook(mean, turbidity, albedo, elevation)])
+
+
 def channel_radiance(directions, sun_direction, turbidity, albedo):
     """The model's radiance in each channel along unit ``directions``, W m⁻² sr⁻¹ nm⁻¹.
 
@@ -75,23 +137,9 @@ def channel_radiance(directions, sun_direction, turbidity, albedo):
     -------
     ndarray, shape (n, 11)
     """
-    coeffs, mean = _tables()
-    elevation = np.arcsin(np.clip(sun_direction[2], 0.0, 1.0))
-    c = _cook(coeffs, turbidity, albedo, elevation)  # (11, 9)
-    l_m = _cook(mean, turbidity, albedo, elevation)  # (11,)
-    d = np.asarray(directions, float)
-    cos_theta = np.clip(d[:, 2], 0.0, 1.0)[:, None]
-    # Row by row, not by BLAS, whose blocking would make a direction's value depend on its batch.
-    cos_gamma = np.clip((d * sun_direction).sum(1), -1.0, 1.0)[:, None]
-    gamma = np.arccos(cos_gamma)
-    a, b, cc, dd, e, f, g, h, i = c.T
-    mie = (1.0 + cos_gamma**2) / (1.0 + h**2 - 2.0 * h * cos_gamma) ** 1.5
-    radiance = ((1.0 + a * np.exp(b / (cos_theta + 0.01)))
-                * (cc + dd * np.exp(e * gamma) + f * cos_gamma**2 + g * mie + i * np.sqrt(cos_theta)) * l_m)
-    # The fitted formula dips a little below zero in a few corners (down to −0.002 of
-    # a zenith radiance near 0.04, for the sun at the horizon): no light is negative.
-    radiance[d[:, 2] <= 0.0] = 0.0
-    return np.maximum(radiance, 0.0)
+    sun = np.asarray(sun_direction, float)
+    return shape_radiances(np.asarray(directions, float), sun, channel_shape(sun, turbidity, albedo), 0.0,
+                           COS_OFFSET, True)
 
 
 def channel_weights(wavelengths):

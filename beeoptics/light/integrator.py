@@ -15,17 +15,38 @@ scattering events: depth 1 is direct light only (sun, sky and emitters
 seen from the first surface). After the second scattering, Russian
 roulette ends paths in proportion to their throughput.
 
+The sun in a receptor's cone. The sun's disc (0.27° across) is rarely hit
+by a cone's samples: with 256 samples a 2.6° receptor 2–4.5° off the sun
+expects 0.18 hits, so it would see the sky alone or a flash tens of times
+too bright. For receptors' cones (``cones``) the disc is therefore also
+sampled directly, once per cone sample, uniformly over its solid angle and
+with a shadow ray, and the two strategies are combined by the balance
+heuristic of multiple importance sampling (Veach 1997, ch. 9): a sample of
+either kind counts with weight A(θ)/(2πσ² (p_cone + p_sun)), in the units
+of the cone's samples, with A the Gaussian acceptance, p_cone the cone's
+sampling density (:func:`beeoptics.light.sensors.cone_density`) and p_sun
+one over the disc's solid angle. The estimate stays unbiased, and its noise
+small wherever the sun falls in the cone.
+
 Spectra. Diffuse scattering multiplies a path's spectral throughput by
 the material's reflectance; glossy scattering, emission geometry and
 sampling weights are spectrally flat. A path's throughput is therefore
 exactly a scalar weight times the product of the reflectance spectra of
 the materials it scattered from, in order: the path carries that scalar
-and the sequence (as an integer key), and the products are formed once
-per distinct sequence, on the full spectral grid, when the contributions
-are summed. Light likewise is a flat weight times one of a few spectra
-(the sky's basis, the sun's radiance, a material's emission). The result
-is the full spectrum, with no RGB or band-limited shortcut, at the cost of
-scalar arithmetic per ray.
+and the sequence (as an integer key, numbered in order of appearance), and
+the products are formed once per distinct sequence, on the full spectral
+grid, when the contributions are summed. Light likewise is a flat weight
+times one of a few spectra (the sky's basis, the sun's radiance, a
+material's emission). The result is the full spectrum, with no RGB or
+band-limited shortcut, at the cost of scalar arithmetic per ray.
+
+Compiled shading. Between two casts, everything runs in compiled kernels
+(numba; :mod:`beeoptics.jit`), one path at a time and serially within a
+batch: what each ray met (:func:`_arrive`: sky, sun, emission, the sun's
+shadow ray, scattering, roulette), the sun through the unblocked shadow
+rays (:func:`_sunlit`), and each bundle's spectral sum
+(:func:`_sum_contributions`). Only Embree's calls and the material lookup
+of the hits are outside them.
 
 Randomness. Each random number is a hash (see :mod:`beeoptics.light.sampler`)
 of the seed, the receptor's index, the sample's index and the dimension,
@@ -36,21 +57,24 @@ References
 ----------
 Kajiya JT (1986) The rendering equation. Proc SIGGRAPH 86:143–150.
 Veach E (1997) Robust Monte Carlo methods for light transport simulation.
-PhD thesis, Stanford University (next-event estimation, Russian roulette).
+PhD thesis, Stanford University (next-event estimation, Russian roulette,
+multiple importance sampling).
 Lafortune EP, Willems YD (1994) Using the modified Phong reflectance model
 for physically based rendering. Report CW197, KU Leuven.
 Steele GL, Lea D, Flood CH (2014) Fast splittable pseudorandom number
 generators. Proc OOPSLA 2014:453–472.
 """
 
+import numba
 import numpy as np
-from scipy import sparse
 
-from beeoptics.light.emitters import Lights, sample_sun, sees_sun
-from beeoptics.light.sampler import uniform
-from beeoptics.light.scattering import Surfaces, lambert, phong, scatter
+from beeoptics.jit import kernel
+from beeoptics.light.emitters import Lights, sample_sun
+from beeoptics.light.hosekwilkie import shape_radiance
+from beeoptics.light.sampler import shifted_halton, uniform1
+from beeoptics.light.scattering import Surfaces, phong, scatter
 from beeoptics.light.scene import raycasting_scene
-from beeoptics.light.sky import sky_coefficients
+from beeoptics.light.sensors import cone_density
 from beeoptics.raycasting import first_hits, occluded
 
 #: Ray origins leave a surface by this fraction of the scene's size.
@@ -59,55 +83,256 @@ OFFSET = 1e-7
 ROULETTE_AFTER = 2
 #: Random dimensions drawn per scattering event.
 DIMENSIONS_PER_EVENT = 6
+#: Random dimensions of the sun's samples in a receptor's cone, apart from the events' and the cones'.
+SUN_DIMENSIONS = (254, 255)
 
 
-def _cast(rs, rays):
-    out = first_hits(rs, rays)
-    return (out["t_hit"], out["geometry_ids"].astype(np.int64), out["primitive_ids"].astype(np.int64),
-            out["primitive_uvs"], out["primitive_normals"].astype(np.float64))
+@kernel
+def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, sequences, numbers, bundle, stream, sample, seed,
+            has_sky, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere,
+            sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis, cone_sigma,
+            glows, emission_row, specular, exponent, mean_rho, max_rho, radix, n_lights, eps):
+    """What the paths ``paths`` meet along ``rays``: light where they leave the scene or meet a glowing
+    surface (as contributions), and, at a surface, the sun's shadow ray and the scattered ray.
+
+    Updates the paths' weight ``w``, ``key`` and ``bound`` in place, and writes
+    the scattered ray's origin and direction into ``rays``. A path's key is
+    the number of its sequence of materials in ``sequences`` (a list of the
+    sequences' integers, added to here, with ``numbers`` its inverse), so that the contributions' columns
+    are small, dense numbers.
+
+    Returns
+    -------
+    contributions : (bundle, combo, weight) arrays
+    shadow : ndarray (k, 6) float32, and the rows of ``paths`` each belongs to
+    lit, lit_key : ndarray (k, 2)
+        The Lambertian and glossy weight of each shadow ray's sun, and their keys.
+    scattered : ndarray of bool (m,), the paths that go on
+    """
+    m = len(paths)
+    n_sky = sky_shape.shape[0] if has_sky else 0
+    c_bundle = np.empty(m * (n_sky + 1), np.int64)
+    c_combo = np.empty(m * (n_sky + 1), np.int64)
+    c_weight = np.empty(m * (n_sky + 1))
+    shadow = np.empty((m, 6), np.float32)
+    shadow_row = np.empty(m, np.int64)
+    lit = np.empty((m, 2))
+    lit_key = np.empty((m, 2), np.int64)
+    scattered = np.zeros(m, np.bool_)
+    sky = np.empty(max(n_sky, 1))
+    d, normal, mirror = np.empty(3), np.empty(3), np.empty(3)
+    nc = ns = 0
+    for r in range(m):
+        i = paths[r]
+        b = bundle[i]
+        for k in range(3):
+            d[k] = rays[r, 3 + k]
+        if material[r] < 0:
+            # Light from the sky, and from the sun's disc on first sight only (after a
+            # surface, next-event estimation has counted the sun).
+            if n_sky:
+                shape_radiance(d[0], d[1], d[2], sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere, sky)
+                for k in range(n_sky):
+                    if sky[k] != 0.0:
+                        c_bundle[nc], c_combo[nc], c_weight[nc] = b, key[i] * n_lights + k, w[i] * sky[k]
+                        nc += 1
+            if event == 0 and sun_row >= 0 and d[0] * sun_dir[0] + d[1] * sun_dir[1] + d[2] * sun_dir[2] >= sun_cos:
+                weight = w[i]
+                if cone_sigma[b] > 0.0:
+                    # The cone's sample, weighed against the sun's own (balance heuristic).
+                    cos_a = cone_axis[b, 0] * d[0] + cone_axis[b, 1] * d[1] + cone_axis[b, 2] * d[2]
+                    q = cone_density(np.arccos(min(max(cos_a, -1.0), 1.0)), cone_sigma[b])
+                    weight *= q / (q + 1.0 / sun_solid_angle)
+                c_bundle[nc], c_combo[nc], c_weight[nc] = b, key[i] * n_lights + sun_row, weight
+                nc += 1
+            continue
+        mat = material[r]
+        if glows[mat]:
+            c_bundle[nc], c_combo[nc], c_weight[nc] = b, key[i] * n_lights + emission_row + mat, w[i]
+            nc += 1
+        if event == depth:
+            continue
+        # The normal facing the incoming ray, and the point just off the surface.
+        cos_o = 0.0
+        for k in range(3):
+            normal[k] = normals[r, k]
+            cos_o -= normal[k] * d[k]
+        if cos_o < 0.0:
+            for k in range(3):
+                normal[k] = -normal[k]
+            cos_o = -cos_o
+        for k in range(3):
+            mirror[k] = 2.0 * cos_o * normal[k] + d[k]
+            rays[r, k] = np.float64(rays[r, k]) + np.float64(t_hit[r]) * d[k] + eps * normal[k]
+        dim = event * DIMENSIONS_PER_EVENT
+        rho_key = _number(sequences, numbers, sequences[key[i]] * radix + (mat + 1))
+        if sun_row >= 0:
+            # Next-event estimation towards the sun's disc, sampled uniformly.
+            lx, ly, lz = sample_sun(sun_dir, sun_cos, uniform1(seed, stream[i], sample[i], dim),
+                                    uniform1(seed, stream[i], sample[i], dim + 1))
+            cos_l = normal[0] * lx + normal[1] * ly + normal[2] * lz
+            if cos_l > 0.0:
+                shadow[ns, 0], shadow[ns, 1], shadow[ns, 2] = rays[r, 0], rays[r, 1], rays[r, 2]
+                shadow[ns, 3], shadow[ns, 4], shadow[ns, 5] = lx, ly, lz
+                base = w[i] * cos_l * sun_solid_angle
+                lit[ns, 0] = base / np.pi
+                lit[ns, 1] = base * phong(specular[mat], exponent[mat], mirror, lx, ly, lz)
+                lit_key[ns, 0], lit_key[ns, 1], shadow_row[ns] = rho_key, key[i], r
+                ns += 1
+        x, y, z, factor, glossy = scatter(normal, mirror, specular[mat], exponent[mat], mean_rho[mat],
+                                          uniform1(seed, stream[i], sample[i], dim + 2),
+                                          uniform1(seed, stream[i], sample[i], dim + 3),
+                                          uniform1(seed, stream[i], sample[i], dim + 4))
+        w[i] *= factor
+        if not glossy:
+            key[i] = rho_key
+            bound[i] *= max_rho[mat]
+        if event + 1 >= ROULETTE_AFTER:
+            q = min(max(w[i] * bound[i], 0.0), 1.0)
+            w[i] = w[i] / max(q, 1e-300) if uniform1(seed, stream[i], sample[i], dim + 5) < q else 0.0
+        rays[r, 3], rays[r, 4], rays[r, 5] = x, y, z
+        scattered[r] = w[i] > 0.0
+    return ((c_bundle[:nc], c_combo[:nc], c_weight[:nc]), shadow[:ns], shadow_row[:ns], lit[:ns], lit_key[:ns],
+            scattered)
 
 
-def _occluded(rs, origins, directions):
-    return occluded(rs, np.concatenate([origins, directions], axis=1, dtype=np.float32))
+@kernel
+def _no_sequences():
+    """The list of sequences of materials with only the empty one (0), and its inverse."""
+    sequences = numba.typed.List([0])
+    numbers = numba.typed.Dict.empty(numba.types.int64, numba.types.int64)
+    numbers[0] = 0
+    return sequences, numbers
 
 
-def _product_spectra(keys, reflectance, radix, depth):
-    """The product of the reflectance spectra that each key's digits name."""
-    out = np.ones((len(keys), reflectance.shape[1]))
-    k = keys.copy()
-    for _ in range(depth + 1):
-        digit = k % radix
-        sel = digit > 0
-        out[sel] *= reflectance[digit[sel] - 1]
-        k //= radix
+@kernel
+def _number(sequences, numbers, sequence):
+    """The number of a sequence of materials in ``sequences`` (and ``numbers``, its inverse), adding it if new."""
+    k = numbers.get(sequence, -1)
+    if k < 0:
+        k = len(sequences)
+        numbers[sequence] = k
+        sequences.append(sequence)
+    return k
+
+
+@kernel
+def _sunlit(paths, shadow_row, blocked, lit, lit_key, bundle, sun_row, n_lights):
+    """The sun's light through the unblocked shadow rays: Lambertian, then glossy, per path."""
+    k = len(shadow_row)
+    c_bundle, c_combo, c_weight = np.empty(2 * k, np.int64), np.empty(2 * k, np.int64), np.empty(2 * k)
+    nc = 0
+    for s in range(k):
+        if blocked[s]:
+            continue
+        b = bundle[paths[shadow_row[s]]]
+        for lobe in range(2):
+            if lit[s, lobe] != 0.0:
+                c_bundle[nc], c_combo[nc], c_weight[nc] = b, lit_key[s, lobe] * n_lights + sun_row, lit[s, lobe]
+                nc += 1
+    return c_bundle[:nc], c_combo[:nc], c_weight[:nc]
+
+
+@kernel
+def _sun_in_cones(origins, bundle, u, sun_dir, sun_cos, sun_solid_angle, cone_axis, cone_sigma):
+    """One sample of the sun's disc per cone sample, weighed against the cone's own (balance heuristic).
+
+    ``u`` (n·s, 2) places them on the disc: a stratified set, since the
+    acceptance varies across the disc by up to e^±1 in a cone's flank.
+
+    Returns the shadow rays from the receptors towards them, and each
+    one's weight in the units of the cone's samples (sin θ/θ): the
+    acceptance A(θ) over 2πσ² and the sum of the two densities.
+    """
+    n = len(bundle)
+    rays, weight = np.empty((n, 6), np.float32), np.empty(n)
+    rows = np.empty(n, np.int64)
+    ns = 0
+    p_sun = 1.0 / sun_solid_angle
+    for i in range(n):
+        b = bundle[i]
+        sigma = cone_sigma[b]
+        if sigma <= 0.0:
+            continue
+        x, y, z = sample_sun(sun_dir, sun_cos, u[i, 0], u[i, 1])
+        theta = np.arccos(min(max(cone_axis[b, 0] * x + cone_axis[b, 1] * y + cone_axis[b, 2] * z, -1.0), 1.0))
+        acceptance = np.exp(-0.5 * (theta / sigma) ** 2)
+        if acceptance == 0.0:
+            continue
+        weight[ns] = acceptance / (2.0 * np.pi * sigma * sigma) / (cone_density(theta, sigma) + p_sun)
+        rays[ns, 0], rays[ns, 1], rays[ns, 2] = origins[b, 0], origins[b, 1], origins[b, 2]
+        rays[ns, 3], rays[ns, 4], rays[ns, 5] = x, y, z
+        rows[ns] = i
+        ns += 1
+    return rays[:ns], rows[:ns], weight[:ns]
+
+
+@kernel
+def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, depth, sequences):
+    """Each bundle's spectral sum of its paths' contributions, (n, n_wavelengths).
+
+    A contribution's column is a sequence's number (its index in the list
+    ``sequences``) times the lights plus its light. A bundle's weights in one column are summed
+    in the order the paths emitted them, and the columns' spectra weighed in
+    increasing order of their sequence's integer, then light: neither order
+    depends on the other bundles of the batch, so a bundle's sum is the same
+    to the last bit however the run is batched.
+    """
+    n_lights, n_wl = lights.shape
+    n_columns = len(sequences) * n_lights
+    out = np.zeros((n, n_wl))
+    # The contributions, stably ordered by bundle (a counting sort).
+    start = np.zeros(n + 1, np.int64)
+    for j in range(len(bundle)):
+        start[bundle[j] + 1] += 1
+    start = np.cumsum(start)
+    order, fill = np.empty(len(bundle), np.int64), start[:-1].copy()
+    for j in range(len(bundle)):
+        order[fill[bundle[j]]] = j
+        fill[bundle[j]] += 1
+    rank = np.empty(n_columns, np.int64)
+    spectra = np.empty((n_columns, n_wl))
+    made = np.zeros(n_columns, np.bool_)
+    value = np.empty(n_columns, np.int64)
+    for c in range(n_columns):
+        value[c] = sequences[c // n_lights] * n_lights + c % n_lights
+    by_value = np.argsort(value)
+    rank[by_value] = np.arange(n_columns)
+    cell = np.zeros(n_columns)
+    seen = np.zeros(n_columns, np.bool_)
+    touched = np.empty(n_columns, np.int64)
+    for b in range(n):
+        nt = 0
+        for j in order[start[b]:start[b + 1]]:
+            c = column[j]
+            if not seen[c]:
+                seen[c] = True
+                touched[nt] = rank[c]
+                nt += 1
+            cell[c] += weight[j]
+        for r in np.sort(touched[:nt]):
+            c = by_value[r]
+            if not made[c]:
+                # The product of the reflectance spectra that the sequence's digits name, times the light.
+                spectra[c] = 1.0
+                k = sequences[c // n_lights]
+                for _ in range(depth + 1):
+                    digit = k % radix
+                    if digit > 0:
+                        for x in range(n_wl):
+                            spectra[c, x] *= reflectance[digit - 1, x]
+                    k //= radix
+                for x in range(n_wl):
+                    spectra[c, x] *= lights[c % n_lights, x]
+                made[c] = True
+            for x in range(n_wl):
+                out[b, x] += cell[c] * spectra[c, x]
+            cell[c], seen[c] = 0.0, False
     return out
 
 
-def _sum_contributions(contributions, n, lights, reflectance, radix, depth):
-    """Each bundle's spectral sum of its paths' contributions, (n, n_wavelengths).
-
-    Sum the weights of equal (bundle, sequence, light) triples, then weigh
-    each distinct sequence-and-light spectrum once. The (sequence, light)
-    pair is one integer, and so is the (bundle, pair) pair: sorting flat
-    integers is many times faster than sorting rows. bincount adds in the
-    order paths were emitted, and the product below in the order of the
-    pairs, neither of which depends on the other bundles of the batch: a
-    bundle's sum is the same to the last bit however the run is batched.
-    """
-    if not contributions:
-        return np.zeros((n, lights.shape[1]))
-    b, k, light, weight = (np.concatenate(c) for c in zip(*contributions))
-    n_lights = len(lights)
-    combos, column = np.unique(k * n_lights + light, return_inverse=True)
-    cells, cell = np.unique(b * len(combos) + column, return_inverse=True)
-    matrix = sparse.csr_matrix((np.bincount(cell, weights=weight), (cells // len(combos), cells % len(combos))),
-                               shape=(n, len(combos)))
-    spectra = _product_spectra(combos // n_lights, reflectance, radix, depth) * lights[combos % n_lights]
-    return np.asarray(matrix @ spectra)
-
-
 def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=None, first_samples=None,
-                rs=None, counts=None):
+                rs=None, counts=None, cones=None):
     """Spectral radiance arriving along bundles of rays, averaged per bundle.
 
     Parameters
@@ -133,6 +358,12 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         Built from ``scene`` if not given.
     counts : dict, optional
         Incremented with the rays cast ("cast", "shadow").
+    cones : pair of ndarray, optional
+        Each bundle's cone axis (n, 3) and Gaussian σ (n,), radians, when
+        the bundles are receptors' cones drawn by
+        :func:`beeoptics.light.sensors.cone_samples`: the sun is then also
+        sampled in each cone and weighed against the cone's samples by
+        multiple importance sampling.
 
     Returns
     -------
@@ -151,6 +382,16 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     counts.setdefault("shadow", 0)
     n, s = weights.shape
     eps = OFFSET * max(scene.extent, 1.0)
+    sky, sun = scene.sky, scene.sun
+    no_sky = sky is None
+    sky_args = (not no_sky, np.zeros(3) if no_sky else sky.sun, np.zeros((0, 10)) if no_sky else sky.shape,
+                0.0 if no_sky else sky.cos_floor, 0.0 if no_sky else sky.cos_offset, False if no_sky else sky.hemisphere)
+    sun_args = ((-1, np.zeros(3), 1.0, 1.0) if sun is None else
+                (lights.sun, sun.direction.astype(float), float(sun.cos_radius), float(sun.solid_angle)))
+    cone_axis, cone_sigma = (np.zeros((n, 3)), np.zeros(n)) if cones is None else (
+        np.ascontiguousarray(cones[0], float), np.broadcast_to(np.asarray(cones[1], float), (n,)).copy())
+    material_args = (lights.glows, lights.emission, surfaces.specular, surfaces.exponent, surfaces.mean_rho,
+                     surfaces.max_rho, radix, len(lights.spectra), eps)
 
     bundle = np.repeat(np.arange(n), s)
     stream = bundle if streams is None else np.repeat(streams, s)
@@ -163,83 +404,41 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     rays[:, 3:] = directions.reshape(-1, 3)
     w = weights.reshape(-1).astype(np.float64)
     key = np.zeros(n * s, np.int64)
+    sequences, numbers = _no_sequences()
     bound = np.ones(n * s)  # an upper bound of the throughput's spectral maximum
-    contributions = []  # (bundle, key, light, weight)
+    contributions = []  # (bundle, combo, weight)
 
-    def emit(idx, light, weight, keys=None):
-        keep = weight != 0.0
-        if keep.any():
-            contributions.append((bundle[idx][keep], (key[idx] if keys is None else keys)[keep],
-                                  np.broadcast_to(light, idx.shape)[keep].astype(np.int64), weight[keep]))
+    if cones is not None and sun is not None:
+        u = shifted_halton(s, seed, np.arange(n) if streams is None else streams, SUN_DIMENSIONS, first_samples)
+        shadow, rows, weight = _sun_in_cones(np.asarray(origins, float), bundle, u.reshape(-1, 2), *sun_args[1:],
+                                             cone_axis, cone_sigma)
+        if len(rows):
+            seen = ~occluded(rs, shadow)
+            counts["shadow"] += len(rows)
+            contributions.append((bundle[rows[seen]], np.full(seen.sum(), lights.sun, np.int64), weight[seen]))
 
-    alive = np.arange(n * s)
+    paths = np.arange(n * s)
     for event in range(depth + 1):
-        batch = rays[alive]
-        t_hit, geometry, primitive, bary, normal = _cast(rs, batch)
-        counts["cast"] += len(alive)
-        d = batch[:, 3:].astype(np.float64)
-        missed = ~np.isfinite(t_hit)
-        # Light from the sky, and from the sun's disc on first sight only (after
-        # a surface, next-event estimation has counted the sun).
-        out, dir_out = alive[missed], d[missed]
-        if scene.sky is not None and out.size:
-            c = sky_coefficients(scene.sky, dir_out)
-            for k in range(c.shape[1]):
-                emit(out, k, w[out] * c[:, k])
-        if event == 0 and scene.sun is not None and out.size:
-            seen = sees_sun(scene.sun, dir_out)
-            emit(out[seen], lights.sun, w[out[seen]])
-        hit = ~missed
-        alive, t_hit, geometry, primitive, bary, normal, d = (
-            alive[hit], t_hit[hit], geometry[hit], primitive[hit], bary[hit], normal[hit], d[hit])
-        if alive.size == 0:
+        out = first_hits(rs, rays)
+        counts["cast"] += len(paths)
+        hit = np.isfinite(out["t_hit"])
+        material = np.full(len(paths), -1, np.int64)
+        material[hit] = surfaces.material(out["geometry_ids"][hit].astype(np.int64),
+                                          out["primitive_ids"][hit].astype(np.int64), out["primitive_uvs"][hit])
+        found, shadow, rows, lit, lit_key, scattered = _arrive(
+            event, depth, rays, paths, out["t_hit"], out["primitive_normals"], material, w, key, bound, sequences, numbers, bundle,
+            stream, sample, seed, *sky_args, *sun_args, cone_axis, cone_sigma, *material_args)
+        contributions.append(found)
+        if len(rows):
+            blocked = occluded(rs, shadow)
+            counts["shadow"] += len(rows)
+            contributions.append(_sunlit(paths, rows, blocked, lit, lit_key, bundle, lights.sun,
+                                         len(lights.spectra)))
+        if event == depth or not scattered.any():
             break
-        m = surfaces.material(geometry, primitive, bary)
-        glowing = lights.glows[m]
-        emit(alive[glowing], lights.emission + m[glowing], w[alive[glowing]])
-        if event == depth:
-            break
+        paths, rays = paths[scattered], rays[scattered]
 
-        p = batch[hit, :3] + t_hit[:, None] * d
-        wi = -d
-        normal = np.where(((normal * wi).sum(1) < 0.0)[:, None], -normal, normal)
-        start = p + eps * normal
-        rnd = [uniform(seed, stream[alive], sample[alive], event * DIMENSIONS_PER_EVENT + j)
-               for j in range(DIMENSIONS_PER_EVENT)]
-        rho_key = key[alive] * radix + (m + 1)
-        ks = surfaces.specular[m]
-        expo = surfaces.exponent[m]
-        cos_o = (normal * wi).sum(1)
-        mirror = 2.0 * cos_o[:, None] * normal - wi
-
-        # Next-event estimation towards the sun's disc, sampled uniformly.
-        if scene.sun is not None:
-            to_sun = sample_sun(scene.sun, rnd[0], rnd[1])
-            cos_l = (normal * to_sun).sum(1)
-            facing = np.flatnonzero(cos_l > 0.0)
-            if facing.size:
-                blocked = _occluded(rs, start[facing], to_sun[facing])
-                counts["shadow"] += facing.size
-                lit = facing[~blocked]
-                idx = alive[lit]
-                base = w[idx] * cos_l[lit] * scene.sun.solid_angle
-                emit(idx, lights.sun, lambert(base), keys=rho_key[lit])
-                emit(idx, lights.sun, phong(base, ks[lit], expo[lit], mirror[lit], to_sun[lit]))
-
-        d_new, factor, glossy = scatter(normal, mirror, ks, expo, surfaces.mean_rho[m], rnd[2], rnd[3], rnd[4])
-        w[alive] *= factor
-        key[alive] = np.where(glossy, key[alive], rho_key)
-        bound[alive] *= np.where(glossy, 1.0, surfaces.max_rho[m])
-        if event + 1 >= ROULETTE_AFTER:
-            q = np.clip(w[alive] * bound[alive], 0.0, 1.0)
-            survive = rnd[5] < q
-            w[alive] = np.where(survive, w[alive] / np.maximum(q, 1e-300), 0.0)
-        keep = w[alive] > 0.0
-        alive = alive[keep]
-        rays[alive, :3] = start[keep]
-        rays[alive, 3:] = d_new[keep]
-        if alive.size == 0:
-            break
-
+    b, combo, weight = (np.concatenate(c) for c in zip(*contributions))
     total = weights.sum(axis=1)
-    return _sum_contributions(contributions, n, lights.spectra, scene.reflectance, radix, depth) / total[:, None]
+    return (_sum_contributions(b, combo, weight, n, lights.spectra, scene.reflectance, radix, depth,
+                               sequences) / total[:, None])

@@ -26,21 +26,38 @@ Duff T, Burgess J, Christensen P, Hery C, Kensler A, Liani M, Villemin R
 import numpy as np
 from scipy.stats import qmc
 
+from beeoptics.jit import kernel
 
+_GOLDEN, _MIX1, _MIX2 = np.uint64(0x9E3779B97F4A7C15), np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
+
+
+@kernel
 def _splitmix(x):
-    x = x + np.uint64(0x9E3779B97F4A7C15)
-    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    x = x + _GOLDEN
+    x = (x ^ (x >> np.uint64(30))) * _MIX1
+    x = (x ^ (x >> np.uint64(27))) * _MIX2
     return x ^ (x >> np.uint64(31))
+
+
+@kernel
+def uniform1(seed, stream, sample, dimension):
+    """One counter-based uniform number in [0, 1) for (seed, stream, sample, dimension), compiled."""
+    key = _splitmix(np.uint64(seed) ^ _splitmix((np.uint64(stream) << np.uint64(32)) ^ np.uint64(sample)
+                                                ^ (np.uint64(dimension) << np.uint64(56))))
+    return np.float64(key >> np.uint64(11)) * (1.0 / 2.0**53)
+
+
+@kernel
+def _uniform_many(seed, stream, sample, dimension):
+    out = np.empty(len(stream))
+    for i in range(len(stream)):
+        out[i] = uniform1(seed, stream[i], sample[i], dimension)
+    return out
 
 
 def uniform(seed, stream, sample, dimension):
     """Counter-based uniform numbers in [0, 1): one per (stream, sample) pair, for one dimension."""
-    with np.errstate(over="ignore"):
-        key = _splitmix(np.uint64(seed) ^ _splitmix(
-            (stream.astype(np.uint64) << np.uint64(32)) ^ sample.astype(np.uint64)
-            ^ (np.uint64(dimension) << np.uint64(56))))
-    return (key >> np.uint64(11)).astype(np.float64) * (1.0 / 2.0**53)
+    return _uniform_many(int(seed), np.asarray(stream, np.int64), np.asarray(sample, np.int64), int(dimension))
 
 
 def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
@@ -76,31 +93,34 @@ def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
     return (base + shift[:, None, :]) % 1.0
 
 
-def tangent_frames(axes):
-    """Two unit vectors perpendicular to each unit axis and to each other, shape (n, 2, 3).
+@kernel
+def tangent_frame(x, y, z):
+    """Two unit vectors perpendicular to the unit axis (x, y, z) and to each other, as six numbers.
 
     The branchless basis of Duff et al. (2017): no cross products or
     square roots, and continuous everywhere but across the plane z = 0.
     """
-    x, y, z = np.asarray(axes, float).T
-    sign = np.where(z >= 0.0, 1.0, -1.0)
+    sign = 1.0 if z >= 0.0 else -1.0
     a = -1.0 / (sign + z)
     b = x * y * a
-    frames = np.empty((len(x), 2, 3))
-    frames[:, 0, 0] = 1.0 + sign * x * x * a
-    frames[:, 0, 1] = sign * b
-    frames[:, 0, 2] = -sign * x
-    frames[:, 1, 0] = b
-    frames[:, 1, 1] = sign + y * y * a
-    frames[:, 1, 2] = -y
+    return 1.0 + sign * x * x * a, sign * b, -sign * x, b, sign + y * y * a, -y
+
+
+@kernel
+def around(x, y, z, cos_t, phi):
+    """The unit direction at polar cosine ``cos_t`` and azimuth ``phi`` about the unit axis (x, y, z)."""
+    t0, t1, t2, b0, b1, b2 = tangent_frame(x, y, z)
+    sin_t = np.sqrt(max(0.0, 1.0 - cos_t * cos_t))
+    c, s = sin_t * np.cos(phi), sin_t * np.sin(phi)
+    return cos_t * x + c * t0 + s * b0, cos_t * y + c * t1 + s * b1, cos_t * z + c * t2 + s * b2
+
+
+@kernel
+def tangent_frames(axes):
+    """:func:`tangent_frame` of each unit axis (n, 3): shape (n, 2, 3)."""
+    frames = np.empty((len(axes), 2, 3))
+    for i in range(len(axes)):
+        f = tangent_frame(axes[i, 0], axes[i, 1], axes[i, 2])
+        for k in range(6):
+            frames[i, k // 3, k % 3] = f[k]
     return frames
-
-
-def around(axis, cos_t, phi):
-    """Unit directions at polar cosine ``cos_t`` and azimuth ``phi`` about ``axis``, (n, 3) or (3,)."""
-    frame = tangent_frames(np.reshape(axis, (-1, 3)))
-    sin_t = np.sqrt(np.maximum(0.0, 1.0 - cos_t**2))
-    out = cos_t[:, None] * axis
-    out += (sin_t * np.cos(phi))[:, None] * frame[:, 0]
-    out += (sin_t * np.sin(phi))[:, None] * frame[:, 1]
-    return out

@@ -9,8 +9,9 @@ one from the Phong lobe's cos^n distribution.
 
 The diffuse lobe's spectrum is not multiplied in here: a path carries the
 materials it scattered from as a key (see :mod:`beeoptics.light.integrator`),
-so its diffuse factors here are the flat 1/π and, once sampled, 1 over the
-lobe's probability.
+so its diffuse factors are the flat 1/π and, once sampled, 1 over the
+lobe's probability. The lobes are evaluated and sampled one path at a time
+in compiled code, called from the integrator's kernels.
 
 References
 ----------
@@ -20,6 +21,7 @@ for physically based rendering. Report CW197, KU Leuven.
 
 import numpy as np
 
+from beeoptics.jit import kernel
 from beeoptics.light.sampler import around
 
 
@@ -65,47 +67,47 @@ class Surfaces:
         return m
 
 
-def lambert(weight):
-    """A weight times the Lambertian BRDF's flat factor 1/π (its ρ(λ) is carried by the path's key)."""
-    return weight / np.pi
+@kernel
+def phong(specular, exponent, mirror, x, y, z):
+    """The normalised Phong lobe towards (x, y, z), k_s (n + 2)/(2π) cos^n α, α off the ``mirror`` direction (3,)."""
+    cos_a = max(mirror[0] * x + mirror[1] * y + mirror[2] * z, 0.0)
+    return specular * (exponent + 2.0) / (2.0 * np.pi) * cos_a**exponent
 
 
-def phong(weight, specular, exponent, mirror, to_light):
-    """A weight times the normalised Phong lobe, k_s (n + 2)/(2π) cos^n α, α off the mirror direction."""
-    lobe = np.maximum((mirror * to_light).sum(1), 0.0) ** exponent
-    return weight * specular * (exponent + 2.0) / (2.0 * np.pi) * lobe
-
-
+@kernel
 def scatter(normal, mirror, specular, exponent, mean_rho, u_lobe, u_cos, u_phi):
-    """Sample each path's next direction from its BSDF.
+    """Sample a path's next direction from its BSDF.
 
     Parameters
     ----------
-    normal, mirror : ndarray (n, 3)
+    normal, mirror : ndarray (3,)
         The shading normal, facing the incoming ray, and the mirror direction.
-    specular, exponent, mean_rho : ndarray (n,)
-        The hit materials' glossy albedo and exponent, and mean diffuse reflectance.
-    u_lobe, u_cos, u_phi : ndarray (n,)
+    specular, exponent, mean_rho : float
+        The material's glossy albedo and exponent, and mean diffuse reflectance.
+    u_lobe, u_cos, u_phi : float
         Uniform random numbers.
 
     Returns
     -------
-    direction : ndarray (n, 3)
-    factor : ndarray (n,)
+    x, y, z : float
+        The direction.
+    factor : float
         The flat part of BSDF × cosine / probability; zero for a black
         material or a direction below the surface.
-    glossy : ndarray of bool (n,)
+    glossy : bool
         Whether the glossy lobe was sampled (else the diffuse one, whose
-        reflectance the path's key records).
+        reflectance the path's key records; its flat 1/π cancels the cosine
+        lobe's probability).
     """
     albedo = mean_rho + specular
-    p_glossy = np.divide(specular, albedo, out=np.zeros_like(specular), where=albedo > 0)
+    p_glossy = specular / albedo if albedo > 0.0 else 0.0
     glossy = u_lobe < p_glossy
-    cos_t = np.where(glossy, u_cos ** (1.0 / (exponent + 1.0)), np.sqrt(1.0 - u_cos))
-    direction = around(np.where(glossy[:, None], mirror, normal), cos_t, 2 * np.pi * u_phi)
-    cos_n = (normal * direction).sum(1)
-    factor = np.where(glossy, specular * (exponent + 2.0) / (exponent + 1.0) * np.maximum(cos_n, 0.0)
-                      / np.maximum(p_glossy, 1e-300),
-                      1.0 / np.maximum(1.0 - p_glossy, 1e-300))
-    factor[(albedo <= 0.0) | (cos_n <= 0.0)] = 0.0
-    return direction, factor, glossy
+    axis = mirror if glossy else normal
+    cos_t = u_cos ** (1.0 / (exponent + 1.0)) if glossy else np.sqrt(1.0 - u_cos)
+    x, y, z = around(axis[0], axis[1], axis[2], cos_t, 2.0 * np.pi * u_phi)
+    cos_n = normal[0] * x + normal[1] * y + normal[2] * z
+    if albedo <= 0.0 or cos_n <= 0.0:
+        return x, y, z, 0.0, glossy
+    if glossy:
+        return x, y, z, specular * (exponent + 2.0) / (exponent + 1.0) * cos_n / max(p_glossy, 1e-300), glossy
+    return x, y, z, 1.0 / max(1.0 - p_glossy, 1e-300), glossy

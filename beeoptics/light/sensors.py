@@ -19,7 +19,8 @@ images of a scene then differ only in the eye.
 import numpy as np
 
 from beeoptics.eye.optics import FOUR_LN2
-from beeoptics.light.sampler import shifted_halton, tangent_frames
+from beeoptics.jit import kernel
+from beeoptics.light.sampler import shifted_halton, tangent_frame
 
 #: Random dimensions of a receptor's cone shift, apart from those its paths use.
 CONE_DIMENSIONS = (250, 251)
@@ -59,17 +60,41 @@ def cone_samples(axes, delta_rho_deg, samples, seed, streams=None, first_samples
     n = len(axes)
     streams = np.arange(n) if streams is None else np.asarray(streams)
     u = shifted_halton(samples, seed, streams, CONE_DIMENSIONS, first_samples)
-    sigma = np.radians(np.broadcast_to(delta_rho_deg, (n,))) / np.sqrt(2.0 * FOUR_LN2)
-    theta = sigma[:, None] * np.sqrt(-2.0 * np.log1p(-u[..., 0]))
-    phi = 2.0 * np.pi * u[..., 1]
-    frame = tangent_frames(axes)
-    sin_t = np.sin(theta)
-    directions = (
-        np.cos(theta)[..., None] * axes[:, None]
-        + (sin_t * np.cos(phi))[..., None] * frame[:, None, 0]
-        + (sin_t * np.sin(phi))[..., None] * frame[:, None, 1]
-    )
-    weights = np.where(theta > 0, sin_t / np.where(theta > 0, theta, 1.0), 1.0)
+    return _cone_directions(axes, cone_sigma(np.broadcast_to(delta_rho_deg, (n,))), u)
+
+
+def cone_sigma(delta_rho_deg):
+    """The Gaussian's standard deviation σ, radians, of acceptance angles Δρ (full width at half maximum), degrees."""
+    return np.radians(np.asarray(delta_rho_deg, float)) / np.sqrt(2.0 * FOUR_LN2)
+
+
+@kernel
+def cone_density(theta, sigma):
+    """The density, sr⁻¹, of :func:`cone_samples`' directions θ off the axis of a cone of σ (radians).
+
+    The tangent plane's Gaussian, 1/(2πσ²) e^{−θ²/2σ²}, over the sphere's
+    area element: times θ/sin θ.
+    """
+    stretch = theta / np.sin(theta) if theta > 0.0 else 1.0
+    return np.exp(-0.5 * (theta / sigma) ** 2) / (2.0 * np.pi * sigma * sigma) * stretch
+
+
+@kernel
+def _cone_directions(axes, sigma, u):
+    n, s = u.shape[0], u.shape[1]
+    directions, weights = np.empty((n, s, 3)), np.empty((n, s))
+    for i in range(n):
+        t0, t1, t2, b0, b1, b2 = tangent_frame(axes[i, 0], axes[i, 1], axes[i, 2])
+        for j in range(s):
+            theta = sigma[i] * np.sqrt(-2.0 * np.log1p(-u[i, j, 0]))
+            phi = 2.0 * np.pi * u[i, j, 1]
+            sin_t = np.sin(theta)
+            c, t = sin_t * np.cos(phi), sin_t * np.sin(phi)
+            cos_t = np.cos(theta)
+            directions[i, j, 0] = cos_t * axes[i, 0] + c * t0 + t * b0
+            directions[i, j, 1] = cos_t * axes[i, 1] + c * t1 + t * b1
+            directions[i, j, 2] = cos_t * axes[i, 2] + c * t2 + t * b2
+            weights[i, j] = sin_t / theta if theta > 0.0 else 1.0
     return directions, weights
 
 

@@ -41,6 +41,8 @@ from beeoptics.spectra import resample
 
 #: The clear skies, by the model that shapes them.
 CLEAR_SKIES = ("hosek_wilkie", "preetham")
+#: Perez's cos θ is held above this, since his B/cos θ is singular at the horizon.
+PEREZ_COS_FLOOR = float(np.cos(np.pi / 2.0 - 1e-3))
 # Perez coefficients A–E of luminance as slope·T + intercept (Preetham et al. 1999, appendix A.2).
 _PEREZ_Y = np.array([[0.1787, -1.4630], [-0.3554, 0.4275], [-0.0227, 5.3251], [0.1206, -2.5771], [-0.0670, 0.3703]])
 #: Cosine-weighted quadrature points per side over the hemisphere, for the sky's irradiance.
@@ -50,25 +52,31 @@ QUADRATURE = 128
 class Sky(NamedTuple):
     """Sky radiance as a combination of a few basis spectra.
 
-    ``basis`` is (k, n_wavelengths); :func:`sky_coefficients` gives, for
-    directions, the (n, k) weights whose product with it is the radiance.
+    ``basis`` is (k, n_wavelengths). Each basis spectrum's weight along a
+    direction is Hosek & Wilkie's extended Perez formula
+    (:func:`beeoptics.light.hosekwilkie.shape_radiance`) with its row of
+    ``shape`` (k, 10: A–I and a scale), ``cos_floor`` and ``cos_offset``,
+    under a sun in direction ``sun`` (3,); a ``hemisphere`` sky is dark
+    below the horizon. :func:`sky_coefficients` gives the weights (n, k)
+    along directions, whose product with the basis is the radiance.
     """
 
     model: str
     basis: np.ndarray
     hemisphere: bool
-    params: dict
+    shape: np.ndarray
+    sun: np.ndarray
+    cos_floor: float = 0.0
+    cos_offset: float = 0.0
+
+
+#: The formula's row of a sky that is the same everywhere: C = 1, scale 1.
+_FLAT = np.array([[0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]])
 
 
 def uniform_sky(radiance, hemisphere=False):
     """A sky of the same spectral radiance everywhere (over the whole sphere unless ``hemisphere``)."""
-    return Sky("uniform", np.asarray(radiance, float)[None, :], hemisphere, {})
-
-
-def _perez(cos_theta, gamma, coeffs):
-    """Perez et al.'s sky distribution at zenith cosine ``cos_theta`` and angle ``gamma`` from the sun."""
-    a, b, c, d, e = coeffs
-    return (1.0 + a * np.exp(b / cos_theta)) * (1.0 + c * np.exp(d * gamma) + e * np.cos(gamma) ** 2)
+    return Sky("uniform", np.asarray(radiance, float)[None, :], hemisphere, _FLAT, np.array([0.0, 0.0, 1.0]))
 
 
 def _hemisphere(samples=QUADRATURE):
@@ -98,13 +106,14 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo):
     wl = daylight.wavelengths
     sun = np.asarray(sun_direction, float)
     if model == "hosek_wilkie":
-        params = {"sun": sun, "turbidity": float(turbidity),
-                  "albedo": np.interp(hosekwilkie.CHANNELS_NM, wl, albedo)}
+        albedo = np.interp(hosekwilkie.CHANNELS_NM, wl, albedo)
+        shape = Sky(model, None, True, hosekwilkie.channel_shape(sun, turbidity, albedo), sun, 0.0,
+                    hosekwilkie.COS_OFFSET)
         weights = hosekwilkie.channel_weights(wl)
     else:
-        params = {"sun": sun, "perez": _PEREZ_Y[:, 0] * turbidity + _PEREZ_Y[:, 1]}
+        a, b, c, d, e = _PEREZ_Y[:, 0] * turbidity + _PEREZ_Y[:, 1]
+        shape = Sky(model, None, True, np.array([[a, b, 1.0, c, d, e, 0.0, 0.0, 0.0, 1.0]]), sun, PEREZ_COS_FLOOR)
         weights = np.ones((len(wl), 1))
-    shape = Sky(model, None, True, params)
     # Each basis spectrum's irradiance, then the wavelength-by-wavelength scale that
     # makes their blend integrate to the diffuse irradiance.
     per_basis = np.pi * sky_coefficients(shape, _hemisphere()).mean(0)
@@ -114,19 +123,8 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo):
 
 def sky_coefficients(sky, directions):
     """Weights (n, k) of the sky's basis spectra seen along unit ``directions`` (n, 3)."""
-    d = np.asarray(directions, float)
-    p = sky.params
-    if sky.model == "uniform":
-        w = np.ones((len(d), 1))
-    elif sky.model == "hosek_wilkie":
-        w = hosekwilkie.channel_radiance(d, p["sun"], p["turbidity"], p["albedo"])
-    else:
-        cos_theta = np.maximum(d[:, 2], np.cos(np.pi / 2.0 - 1e-3))  # B/cos θ is singular at the horizon
-        gamma = np.arccos(np.clip((d * p["sun"]).sum(1), -1.0, 1.0))
-        w = _perez(cos_theta, gamma, p["perez"])[:, None]
-    if sky.hemisphere:
-        w[d[:, 2] <= 0.0] = 0.0
-    return w
+    return hosekwilkie.shape_radiances(np.asarray(directions, float), sky.sun, sky.shape, sky.cos_floor,
+                                       sky.cos_offset, sky.hemisphere)
 
 
 def cie_daylight(wavelengths, cct):

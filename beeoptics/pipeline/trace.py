@@ -19,7 +19,7 @@ from beeoptics.io.validation import check_background
 from beeoptics.light.batching import trace_bundles
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import bee_camera, load_scene, raycasting_scene, receptors_in_world
-from beeoptics.light.sensors import cone_samples, pinhole_rays
+from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
 from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.logs import log
 from beeoptics.spectra import grid
@@ -41,7 +41,7 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     several machines; every receptor draws the same random numbers in any
     share, so the gathered result is bit-identical to a single part's.
     Writes the share's receptor ids and spectral radiance (npz); returns the
-    ray counts.
+    ray counts ("cast", "shadow") and the tracing's seconds ("seconds").
 
     Parameters
     ----------
@@ -67,9 +67,10 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
 
 def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None):
     """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
-    and the ray counts; ``rs``, the scene's Embree scene if already built."""
+    and the ray counts and seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built."""
     origins, axes = receptors_in_world(scene, table.position, table.axis)
     drho = table.delta_rho_deg
+    sigma = cone_sigma(drho)
     rs = raycasting_scene(scene) if rs is None else rs
     counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
@@ -82,15 +83,16 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
         cast = {}
         radiance = trace_paths(scene, origins[blocks.bundle], dirs, weights, depth=settings.depth,
                                seed=settings.seed, streams=blocks.bundle, first_samples=blocks.first_sample, rs=rs,
-                               counts=cast)
+                               counts=cast, cones=(axes[blocks.bundle], sigma[blocks.bundle]))
         with counting:
-            for k in counts:
-                counts[k] += cast[k]
+            for k, v in cast.items():
+                counts[k] += v
         return radiance, weights.sum(axis=1)
 
     radiance = trace_bundles(trace, first, last, settings, n_wavelengths, progress)
+    counts["seconds"] = time.perf_counter() - start
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
-             counts["shadow"], time.perf_counter() - start)
+             counts["shadow"], counts["seconds"])
     return radiance, counts
 
 
