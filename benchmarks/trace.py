@@ -124,7 +124,8 @@ def main():
         "eye": args.eye, "scene": args.scene, "scene_triangles": sum(len(o.faces) for o in scene.objects),
         "spp": args.spp, "depth": args.depth, "threads": args.threads, "batch_rays": args.batch_rays,
         "receptors": len(origins), "rays": rays, "wall_s": round(wall, 2),
-        "trace_s": round(counts["seconds"], 2), "embree_fraction": round(embree / (counts["seconds"] * args.threads), 3),
+        "trace_s": round(counts["seconds"], 2),
+        "embree_fraction": round(embree / (counts["seconds"] * args.threads), 3),
         "pipeline_rays_per_s": round(pipeline), "bare_rays_per_s": round(bare),
         "ratio": round(pipeline / bare, 3), "peak_memory_mb": round(peak, 1),
     }))

@@ -121,7 +121,8 @@ def _fire_step(points, force, previous_force, velocity, own_step, on_rim, dt, mi
     # is left out of FIRE's bookkeeping so that it cannot stall the rest.
     caught = np.zeros(n, np.bool_)
     for i in range(n):
-        turn = force[i, 0] * previous_force[i, 0] + force[i, 1] * previous_force[i, 1] + force[i, 2] * previous_force[i, 2]
+        turn = (force[i, 0] * previous_force[i, 0] + force[i, 1] * previous_force[i, 1]
+                + force[i, 2] * previous_force[i, 2])
         caught[i] = on_rim[i] and turn < 0.0
         if caught[i]:
             own_step[i] *= 0.5
@@ -234,7 +235,8 @@ def _within_skin(points, pairs, target):
     for k in range(len(pairs)):
         i, j = pairs[k, 0], pairs[k, 1]
         rest[k] = SQUEEZE * 0.5 * (target[i] + target[j])
-        chord2 = (points[j, 0] - points[i, 0]) ** 2 + (points[j, 1] - points[i, 1]) ** 2 + (points[j, 2] - points[i, 2]) ** 2
+        chord2 = ((points[j, 0] - points[i, 0]) ** 2 + (points[j, 1] - points[i, 1]) ** 2
+                  + (points[j, 2] - points[i, 2]) ** 2)
         keep[k] = chord2 < (SKIN * rest[k]) ** 2
     return keep, rest
 

@@ -88,8 +88,8 @@ SUN_DIMENSIONS = (254, 255)
 
 
 @kernel
-def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, sequences, numbers, bundle, stream, sample, seed,
-            has_sky, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere,
+def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, sequences, numbers, bundle, stream,
+            sample, seed, has_sky, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere,
             sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis, cone_sigma,
             glows, emission_row, specular, exponent, mean_rho, max_rho, radix, n_lights, eps):
     """What the paths ``paths`` meet along ``rays``: light where they leave the scene or meet a glowing
@@ -98,8 +98,8 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     Updates the paths' weight ``w``, ``key`` and ``bound`` in place, and writes
     the scattered ray's origin and direction into ``rays``. A path's key is
     the number of its sequence of materials in ``sequences`` (a list of the
-    sequences' integers, added to here, with ``numbers`` its inverse), so that the contributions' columns
-    are small, dense numbers.
+    sequences' integers, added to here, with ``numbers`` its inverse), so
+    that the contributions' columns are small, dense numbers.
 
     Returns
     -------
@@ -383,9 +383,8 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     n, s = weights.shape
     eps = OFFSET * max(scene.extent, 1.0)
     sky, sun = scene.sky, scene.sun
-    no_sky = sky is None
-    sky_args = (not no_sky, np.zeros(3) if no_sky else sky.sun, np.zeros((0, 10)) if no_sky else sky.shape,
-                0.0 if no_sky else sky.cos_floor, 0.0 if no_sky else sky.cos_offset, False if no_sky else sky.hemisphere)
+    sky_args = ((False, np.zeros(3), np.zeros((0, 10)), 0.0, 0.0, False) if sky is None else
+                (True, sky.sun, sky.shape, sky.cos_floor, sky.cos_offset, sky.hemisphere))
     sun_args = ((-1, np.zeros(3), 1.0, 1.0) if sun is None else
                 (lights.sun, sun.direction.astype(float), float(sun.cos_radius), float(sun.solid_angle)))
     cone_axis, cone_sigma = (np.zeros((n, 3)), np.zeros(n)) if cones is None else (
@@ -426,8 +425,8 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         material[hit] = surfaces.material(out["geometry_ids"][hit].astype(np.int64),
                                           out["primitive_ids"][hit].astype(np.int64), out["primitive_uvs"][hit])
         found, shadow, rows, lit, lit_key, scattered = _arrive(
-            event, depth, rays, paths, out["t_hit"], out["primitive_normals"], material, w, key, bound, sequences, numbers, bundle,
-            stream, sample, seed, *sky_args, *sun_args, cone_axis, cone_sigma, *material_args)
+            event, depth, rays, paths, out["t_hit"], out["primitive_normals"], material, w, key, bound, sequences,
+            numbers, bundle, stream, sample, seed, *sky_args, *sun_args, cone_axis, cone_sigma, *material_args)
         contributions.append(found)
         if len(rows):
             blocked = occluded(rs, shadow)

@@ -64,7 +64,7 @@ def cone_samples(axes, delta_rho_deg, samples, seed, streams=None, first_samples
 
 
 def cone_sigma(delta_rho_deg):
-    """The Gaussian's standard deviation σ, radians, of acceptance angles Δρ (full width at half maximum), degrees."""
+    """The Gaussian's σ, radians, of acceptance angles Δρ (full width at half maximum, degrees)."""
     return np.radians(np.asarray(delta_rho_deg, float)) / np.sqrt(2.0 * FOUR_LN2)
 
 
