@@ -42,6 +42,7 @@ include: "workflow/rules/trace.smk"
 include: "workflow/rules/images.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/flights.smk"
+include: "workflow/rules/polarisation.smk"
 
 
 rule all:

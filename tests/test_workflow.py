@@ -31,6 +31,9 @@ def workdir(tmp_path_factory):
     work = tmp_path_factory.mktemp("workflow")
     shutil.copytree(DATA / "eyes", work / "eyes")
     shutil.copytree(DATA / "scenes", work / "scenes")
+    # A dorsal rim area, for the polarisation stages: the 12 facets nearest the dorsal margin (a test value).
+    with open(work / "eyes" / "tiny" / "eye.yaml", "a") as f:
+        f.write("dorsal_rim: {count: 12}\n")
     config = {
         "eyes": ["tiny"], "scenes": ["open", "flower"],
         "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
@@ -42,6 +45,8 @@ def workdir(tmp_path_factory):
         "flights": {"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"], "fps": 10,
                              "samples_per_receptor": 4, "target": {"position_m": [0.1, 0.0, 0.12], "radius_m": 0.02},
                              "human_view": {"width_px": 40, "height_px": 30, "samples_per_pixel": 1}}},
+        "polarisation": {"eyes": ["tiny"], "scenes": ["flower"], "samples_per_receptor": 8,
+                         "compass": {"headings": 8, "turbidities": [5], "heights_m": [0.02]}},
     }
     (work / "config.yaml").write_text(yaml.safe_dump(config))
     # The workflow's own files (report captions) are found beside its Snakefile.
@@ -69,6 +74,9 @@ def test_every_artifact_is_written(workdir):
     assert (workdir / "scenes" / "generated" / "meadow.ply").stat().st_size > 0
     for name in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png"):
         assert (workdir / "results" / "flights" / "dive" / "tiny" / name).stat().st_size > 0
+    for name in ("polarisation.csv", "field.png", "retina.png", "dorsal_rim.png", "compass.csv", "compass.json",
+                 "compass.png"):
+        assert (workdir / "results" / "tiny" / "flower" / "polarisation" / name).stat().st_size > 0
 
 
 def test_a_flight_follows_its_flower_frame_by_frame(workdir):
@@ -97,7 +105,8 @@ def test_a_flight_follows_its_flower_frame_by_frame(workdir):
 def test_receptor_table_describes_both_eyes_in_the_head_frame(workdir):
     t = read_table(workdir / "results" / "eyes" / "tiny" / "receptors.csv")
     assert list(t) == ["id", "side", "x", "y", "z", "ax", "ay", "az",
-                       "facet_diameter_um", "delta_phi_deg", "delta_rho_deg"]
+                       "facet_diameter_um", "delta_phi_deg", "delta_rho_deg", "dorsal_rim", "microvilli_deg"]
+    assert t["dorsal_rim"].sum() == 24 and np.isnan(t["microvilli_deg"][t["dorsal_rim"] == 0]).all()
     assert len(t["id"]) == 600 and set(t["side"]) == {"right", "left"}
     right = t["side"] == "right"
     assert np.all(t["y"][right] < 0) and np.all(t["y"][~right] > 0)

@@ -29,32 +29,10 @@ compound eye. Microsc Res Tech 47:368–379.
 import numpy as np
 from scipy.spatial import cKDTree
 
-from beeoptics.headframe import RIGHT, eye_azimuth_elevation, in_eye_plane
+from beeoptics.headframe import RIGHT, eye_azimuth_elevation, in_eye_plane, microvillar_angle
 
 #: The share of the eye's height, from the top, whose rim counts as its dorsal margin.
 DORSAL_MARGIN = 0.1
-
-
-def microvillar_angle(axes, directions):
-    """The angle of ``directions`` about each axis, from the head's dorsal towards its anterior, degrees in [0, 180).
-
-    Parameters
-    ----------
-    axes, directions : ndarray (n, 3)
-        Head frame; ``axes`` unit vectors.
-    """
-    axes = np.asarray(axes, float)
-    up = _orthogonal([0.0, 0.0, 1.0], axes)
-    ahead = _orthogonal([1.0, 0.0, 0.0], axes, up)
-    return np.degrees(np.arctan2((directions * ahead).sum(1), (directions * up).sum(1))) % 180.0
-
-
-def _orthogonal(vector, *against):
-    """``vector`` made perpendicular to each row of every array in ``against`` (unit rows), normalised."""
-    out = np.broadcast_to(np.asarray(vector, float), against[0].shape).copy()
-    for basis in against:
-        out -= basis * (out * basis).sum(1, keepdims=True)
-    return out / np.linalg.norm(out, axis=1, keepdims=True)
 
 
 def dorsal_rim(points, axes_head, rim, rotation, count):

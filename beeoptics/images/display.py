@@ -15,6 +15,7 @@ light (black) stands apart from the space outside the eye.
 
 import colour
 import numpy as np
+from matplotlib.colors import hsv_to_rgb
 
 from beeoptics.vision.human import srgb, tristimulus
 
@@ -57,3 +58,9 @@ def bee_colours(catches, white_catches, wavelengths_nm, radiance):
     xyz = tristimulus(wavelengths_nm, radiance)
     return (relative, map3(relative[:, 0], relative[:, 1], relative[:, 2]),
             srgb(xyz, np.percentile(xyz[:, 1], EXPOSURE_PERCENTILE)))
+
+
+def polarisation_colours(degree, angle_deg):
+    """Polarisation as colour, linear RGB (n, 3): hue the angle (cyclic over 0–180°), saturation the degree."""
+    hsv = np.stack([np.asarray(angle_deg) / 180.0, np.clip(degree, 0.0, 1.0), np.ones(np.shape(degree))], -1)
+    return hsv_to_rgb(np.nan_to_num(hsv))

@@ -375,3 +375,52 @@ def optic_flow(azimuth_deg, elevation_deg, flow_deg_s, path, title):
     ax.grid(color="0.8", linewidth=0.3)
     ax.set_title(title, fontsize=9)
     save(fig, path)
+
+
+def dorsal_rim(azimuth_deg, elevation_deg, microvilli_deg, pol, path, title):
+    """The dorsal rim's POL units where they look (azimuth, elevation), coloured by their response,
+    each with its microvilli's orientation (0° towards the zenith on the map) as a short line."""
+    fig = Figure(figsize=(9.0, 3.8), layout="constrained")
+    ax = fig.subplots()
+    limit = max(float(np.nanmax(np.abs(pol))), 1e-9)
+    dots = ax.scatter(azimuth_deg, elevation_deg, c=pol, cmap="coolwarm", vmin=-limit, vmax=limit, s=28,
+                      edgecolors="0.3", linewidths=0.3)
+    # Azimuth increases to the left, as on the visual-field maps; the anterior direction is
+    # drawn towards azimuth 0.
+    turn = np.radians(microvilli_deg)
+    towards_front = -np.sign(azimuth_deg)
+    dx, dy = 2.5 * np.sin(turn) * towards_front, 2.5 * np.cos(turn)
+    ax.plot(np.stack([azimuth_deg - dx, azimuth_deg + dx]), np.stack([elevation_deg - dy, elevation_deg + dy]),
+            color="k", linewidth=0.6)
+    fig.colorbar(dots, ax=ax, label="POL response (R∥ − R⊥)/(R∥ + R⊥)")
+    ax.set(xlim=(180, -180), ylim=(20, 90), xticks=range(-180, 181, 60), xlabel="azimuth, ° (+ to the bee's left)",
+           ylabel="elevation, °")
+    ax.grid(color="0.8", linewidth=0.3)
+    ax.set_title(title, fontsize=9)
+    save(fig, path)
+
+
+def compass(rows, path, title):
+    """The sky compass over a full turn: its estimate of the solar azimuth against the truth, and its error,
+    per condition (``rows``: columns of the compass table)."""
+    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
+    left, right = fig.subplots(1, 2)
+    condition = np.asarray(rows["condition"])
+    for name in dict.fromkeys(condition):
+        k = condition == name
+        truth, estimate = np.asarray(rows["solar_azimuth_deg"])[k], np.asarray(rows["estimate_deg"])[k]
+        order = np.argsort(truth)
+        left.plot(truth[order], estimate[order], ".", markersize=4, label=name)
+        right.plot(np.asarray(rows["heading_deg"])[k], np.asarray(rows["error_deg"])[k], "-", linewidth=1.0,
+                   label=name)
+    left.plot([-180, 180], [-180, 180], color="0.5", linewidth=0.6)
+    left.set(xlim=(-180, 180), ylim=(-180, 180), xticks=range(-180, 181, 90), yticks=range(-180, 181, 90),
+             xlabel="true solar azimuth, head frame, °", ylabel="compass estimate, °", aspect="equal")
+    right.axhline(0.0, color="0.5", linewidth=0.6)
+    right.set(xlim=(0, 360), xticks=range(0, 361, 90), xlabel="heading turned from the scene's, °",
+              ylabel="compass error, °")
+    right.legend(fontsize=7)
+    for ax in (left, right):
+        ax.grid(color="0.85", linewidth=0.3)
+    fig.suptitle(title, fontsize=9)
+    save(fig, path)

@@ -4,8 +4,9 @@ The tracer follows the split of Mitsuba 3 and pbrt-v4: the sampler
 (:mod:`.sampler`), the sensors that start rays (:mod:`.sensors`: receptor
 cones, the pinhole camera), surface scattering (:mod:`.scattering`), the
 emitters (:mod:`.emitters`, with the sky and sun of :mod:`.sky` and
-:mod:`.sun`, lit by the clear-sky daylight of :mod:`.daylight` and shaped by
-:mod:`.hosekwilkie`) and the integrator that joins them (:mod:`.integrator`),
+:mod:`.sun`, lit by the clear-sky daylight of :mod:`.daylight`, shaped by
+:mod:`.hosekwilkie` and polarised by :mod:`.skypolarisation`), polarised light's
+frames and Mueller matrices (:mod:`.mueller`) and the integrator that joins them (:mod:`.integrator`),
 traced in batches on threads (:mod:`.batching`); what lies between two
 Embree casts is compiled (:mod:`beeoptics.jit`). Scenes are read by
 :mod:`.scene`, their spectra by :mod:`.materials` and :mod:`.fred`.
@@ -15,14 +16,17 @@ from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
     "scene": ("Scene", "SceneObject", "bee_camera", "load_scene", "raycasting_scene",
-              "receptors_in_world"),
+              "receptors_in_world", "relit"),
     "materials": ("ground_albedo", "material", "spectrum"),
     "fred": ("catalogue", "find", "matching", "median_reflectance", "reflectance"),
     "daylight": ("Daylight", "angstrom_beta", "clear_sky", "write_daylight"),
     "hosekwilkie": ("CHANNELS_NM", "channel_radiance", "channel_shape", "channel_weights", "shape_radiance"),
     "sky": ("CLEAR_SKIES", "Sky", "cie_daylight", "clear_sky_dome", "horizontal_irradiance", "luminance",
             "sky_coefficients", "uniform_sky"),
+    "skypolarisation": ("MODELS", "max_degree", "neutral_points_deg", "polarisation", "polarisations",
+                        "sky_polarisation"),
     "sun": ("Sun", "sun_disc"),
+    "mueller": ("depolarise", "double_angle", "fresnel", "plane_normal", "reflect", "reflect_column"),
     "sampler": ("around", "shifted_halton", "tangent_frame", "tangent_frames", "uniform", "uniform1"),
     "sensors": ("cone_density", "cone_samples", "cone_sigma", "pinhole_rays"),
     "scattering": ("Surfaces", "phong", "scatter"),

@@ -71,9 +71,11 @@ import numpy as np
 from beeoptics.jit import kernel
 from beeoptics.light.emitters import Lights, sample_sun
 from beeoptics.light.hosekwilkie import shape_radiance
-from beeoptics.light.sampler import shifted_halton, uniform1
+from beeoptics.light.mueller import depolarise, double_angle, plane_normal, reflect, reflect_column
+from beeoptics.light.sampler import shifted_halton, tangent_frames, uniform1
 from beeoptics.light.scattering import Surfaces, phong, scatter
 from beeoptics.light.scene import raycasting_scene
+from beeoptics.light.skypolarisation import polarisation
 from beeoptics.light.sensors import cone_density
 from beeoptics.raycasting import first_hits, occluded
 
@@ -88,10 +90,23 @@ SUN_DIMENSIONS = (254, 255)
 
 
 @kernel
+def _put(weights, row, scale, mueller, i, column):
+    """Row ``row`` of the contributions' ``weights``: ``scale`` alone (intensity only), or times the Stokes
+    vector that unpolarised light arriving in path ``i``'s frame makes at its bundle (column ``column`` of its
+    Mueller chain)."""
+    if weights.shape[1] == 1:
+        weights[row, 0] = scale
+    else:
+        for k in range(3):
+            weights[row, k] = scale * mueller[i, k, column]
+
+
+@kernel
 def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, sequences, numbers, bundle, stream,
-            sample, seed, has_sky, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere,
-            sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis, cone_sigma,
-            glows, emission_row, specular, exponent, mean_rho, max_rho, radix, n_lights, eps):
+            sample, seed, mueller, frame, has_sky, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere,
+            sky_neutral, sky_max_degree, sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis,
+            cone_sigma, glows, emission_row, specular, exponent, refractive_index, mean_rho, max_rho, radix,
+            n_lights, eps):
     """What the paths ``paths`` meet along ``rays``: light where they leave the scene or meet a glowing
     surface (as contributions), and, at a surface, the sun's shadow ray and the scattered ray.
 
@@ -99,42 +114,69 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     the scattered ray's origin and direction into ``rays``. A path's key is
     the number of its sequence of materials in ``sequences`` (a list of the
     sequences' integers, added to here, with ``numbers`` its inverse), so
-    that the contributions' columns are small, dense numbers.
+    that the contributions' columns are small, dense numbers. With
+    polarisation (``mueller`` not empty), each path also carries the chain
+    of Mueller matrices from its bundle to its ray (``mueller``, (N, 3, 3))
+    and its ray's reference frame (``frame``, (N, 3)), updated in place, and
+    every contribution is a Stokes vector at the bundle (I, Q, U). The
+    sky's degree of polarisation is the same at every wavelength
+    (:mod:`beeoptics.light.skypolarisation`), so its light stays one
+    contribution per basis spectrum.
 
     Returns
     -------
-    contributions : (bundle, combo, weight) arrays
+    contributions : (bundle, combo, weights (k, 1 or 3)) arrays
     shadow : ndarray (k, 6) float32, and the rows of ``paths`` each belongs to
-    lit, lit_key : ndarray (k, 2)
-        The Lambertian and glossy weight of each shadow ray's sun, and their keys.
+    lit : ndarray (k, 2, 1 or 3)
+        The Lambertian and glossy weight (or Stokes vector) of each shadow ray's sun.
+    lit_key : ndarray (k, 2)
+        Their keys.
     scattered : ndarray of bool (m,), the paths that go on
     """
     m = len(paths)
+    n_stokes = 3 if len(mueller) else 1
     n_sky = sky_shape.shape[0] if has_sky else 0
     c_bundle = np.empty(m * (n_sky + 1), np.int64)
     c_combo = np.empty(m * (n_sky + 1), np.int64)
-    c_weight = np.empty(m * (n_sky + 1))
+    c_weight = np.empty((m * (n_sky + 1), n_stokes))
     shadow = np.empty((m, 6), np.float32)
     shadow_row = np.empty(m, np.int64)
-    lit = np.empty((m, 2))
+    lit = np.empty((m, 2, n_stokes))
     lit_key = np.empty((m, 2), np.int64)
     scattered = np.zeros(m, np.bool_)
     sky = np.empty(max(n_sky, 1))
-    d, normal, mirror = np.empty(3), np.empty(3), np.empty(3)
+    d, normal, mirror, s_plane, e_vector = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    du = np.empty(3)
     nc = ns = 0
     for r in range(m):
         i = paths[r]
         b = bundle[i]
         for k in range(3):
             d[k] = rays[r, 3 + k]
+        if n_stokes == 3:
+            # Frames and angles from the direction at full precision, not Embree's single one.
+            norm = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            for k in range(3):
+                du[k] = d[k] / norm
         if material[r] < 0:
             # Light from the sky, and from the sun's disc on first sight only (after a
             # surface, next-event estimation has counted the sun).
             if n_sky:
                 shape_radiance(d[0], d[1], d[2], sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere, sky)
+                q_sky = u_sky = 0.0
+                if n_stokes == 3:
+                    degree = polarisation(du[0], du[1], du[2], sky_sun, sky_neutral, sky_max_degree, e_vector)
+                    c2, s2 = double_angle(e_vector[0], e_vector[1], e_vector[2], frame[i], du)
+                    q_sky, u_sky = degree * c2, degree * s2
                 for k in range(n_sky):
                     if sky[k] != 0.0:
-                        c_bundle[nc], c_combo[nc], c_weight[nc] = b, key[i] * n_lights + k, w[i] * sky[k]
+                        c_bundle[nc], c_combo[nc] = b, key[i] * n_lights + k
+                        if n_stokes == 1:
+                            c_weight[nc, 0] = w[i] * sky[k]
+                        else:
+                            for q in range(3):
+                                c_weight[nc, q] = w[i] * sky[k] * (mueller[i, q, 0] + mueller[i, q, 1] * q_sky
+                                                                   + mueller[i, q, 2] * u_sky)
                         nc += 1
             if event == 0 and sun_row >= 0 and d[0] * sun_dir[0] + d[1] * sun_dir[1] + d[2] * sun_dir[2] >= sun_cos:
                 weight = w[i]
@@ -143,12 +185,14 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
                     cos_a = cone_axis[b, 0] * d[0] + cone_axis[b, 1] * d[1] + cone_axis[b, 2] * d[2]
                     q = cone_density(np.arccos(min(max(cos_a, -1.0), 1.0)), cone_sigma[b])
                     weight *= q / (q + 1.0 / sun_solid_angle)
-                c_bundle[nc], c_combo[nc], c_weight[nc] = b, key[i] * n_lights + sun_row, weight
+                c_bundle[nc], c_combo[nc] = b, key[i] * n_lights + sun_row
+                _put(c_weight, nc, weight, mueller, i, 0)
                 nc += 1
             continue
         mat = material[r]
         if glows[mat]:
-            c_bundle[nc], c_combo[nc], c_weight[nc] = b, key[i] * n_lights + emission_row + mat, w[i]
+            c_bundle[nc], c_combo[nc] = b, key[i] * n_lights + emission_row + mat
+            _put(c_weight, nc, w[i], mueller, i, 0)
             nc += 1
         if event == depth:
             continue
@@ -175,8 +219,17 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
                 shadow[ns, 0], shadow[ns, 1], shadow[ns, 2] = rays[r, 0], rays[r, 1], rays[r, 2]
                 shadow[ns, 3], shadow[ns, 4], shadow[ns, 5] = lx, ly, lz
                 base = w[i] * cos_l * sun_solid_angle
-                lit[ns, 0] = base / np.pi
-                lit[ns, 1] = base * phong(specular[mat], exponent[mat], mirror, lx, ly, lz)
+                glint = base * phong(specular[mat], exponent[mat], mirror, lx, ly, lz)
+                _put(lit[ns], 0, base / np.pi, mueller, i, 0)
+                _put(lit[ns], 1, glint, mueller, i, 0)
+                if n_stokes == 3 and glint != 0.0:
+                    # The sun's unpolarised light, polarised by the glossy reflection.
+                    plane_normal(du, lx, ly, lz, s_plane)
+                    c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
+                    lit[ns, 1, 0], lit[ns, 1, 1], lit[ns, 1, 2] = reflect_column(
+                        mueller[i], c2, s2, _half_cosine(du, lx, ly, lz), refractive_index[mat])
+                    for q in range(3):
+                        lit[ns, 1, q] *= glint
                 lit_key[ns, 0], lit_key[ns, 1], shadow_row[ns] = rho_key, key[i], r
                 ns += 1
         x, y, z, factor, glossy = scatter(normal, mirror, specular[mat], exponent[mat], mean_rho[mat],
@@ -184,6 +237,15 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
                                           uniform1(seed, stream[i], sample[i], dim + 3),
                                           uniform1(seed, stream[i], sample[i], dim + 4))
         w[i] *= factor
+        if n_stokes == 3:
+            plane_normal(du, x, y, z, s_plane)
+            if glossy:
+                c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
+                reflect(mueller[i], c2, s2, _half_cosine(du, x, y, z), refractive_index[mat])
+            else:
+                depolarise(mueller[i])
+            for k in range(3):
+                frame[i, k] = s_plane[k]
         if not glossy:
             key[i] = rho_key
             bound[i] *= max_rho[mat]
@@ -195,6 +257,13 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     return ((c_bundle[:nc], c_combo[:nc], c_weight[:nc]), shadow[:ns], shadow_row[:ns], lit[:ns], lit_key[:ns],
             scattered)
 
+
+@kernel
+def _half_cosine(d, x, y, z):
+    """The cosine of incidence on the microfacet that reflects (x, y, z) into the ray ``d``: at their half vector."""
+    hx, hy, hz = x - d[0], y - d[1], z - d[2]
+    norm = np.sqrt(hx * hx + hy * hy + hz * hz)
+    return (hx * x + hy * y + hz * z) / norm if norm > 0.0 else 1.0
 
 @kernel
 def _no_sequences():
@@ -220,15 +289,17 @@ def _number(sequences, numbers, sequence):
 def _sunlit(paths, shadow_row, blocked, lit, lit_key, bundle, sun_row, n_lights):
     """The sun's light through the unblocked shadow rays: Lambertian, then glossy, per path."""
     k = len(shadow_row)
-    c_bundle, c_combo, c_weight = np.empty(2 * k, np.int64), np.empty(2 * k, np.int64), np.empty(2 * k)
+    n_stokes = lit.shape[2]
+    c_bundle, c_combo, c_weight = np.empty(2 * k, np.int64), np.empty(2 * k, np.int64), np.empty((2 * k, n_stokes))
     nc = 0
     for s in range(k):
         if blocked[s]:
             continue
         b = bundle[paths[shadow_row[s]]]
         for lobe in range(2):
-            if lit[s, lobe] != 0.0:
-                c_bundle[nc], c_combo[nc], c_weight[nc] = b, lit_key[s, lobe] * n_lights + sun_row, lit[s, lobe]
+            if lit[s, lobe, 0] != 0.0:
+                c_bundle[nc], c_combo[nc] = b, lit_key[s, lobe] * n_lights + sun_row
+                c_weight[nc] = lit[s, lobe]
                 nc += 1
     return c_bundle[:nc], c_combo[:nc], c_weight[:nc]
 
@@ -269,9 +340,10 @@ def _sun_in_cones(origins, bundle, u, sun_dir, sun_cos, sun_solid_angle, cone_ax
 
 @kernel
 def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, depth, sequences):
-    """Each bundle's spectral sum of its paths' contributions, (n, n_wavelengths).
+    """Each bundle's spectral sum of its paths' contributions, (n, n_stokes, n_wavelengths).
 
-    A contribution's column is a sequence's number (its index in the list
+    ``weight`` (k, n_stokes) holds each contribution's intensity, or Stokes
+    vector (I, Q, U). A contribution's column is a sequence's number (its index in the list
     ``sequences``) times the lights plus its light. A bundle's weights in one column are summed
     in the order the paths emitted them, and the columns' spectra weighed in
     increasing order of their sequence's integer, then light: neither order
@@ -280,7 +352,8 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
     """
     n_lights, n_wl = lights.shape
     n_columns = len(sequences) * n_lights
-    out = np.zeros((n, n_wl))
+    n_stokes = weight.shape[1]
+    out = np.zeros((n, n_stokes, n_wl))
     # The contributions, stably ordered by bundle (a counting sort).
     start = np.zeros(n + 1, np.int64)
     for j in range(len(bundle)):
@@ -298,7 +371,7 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
         value[c] = sequences[c // n_lights] * n_lights + c % n_lights
     by_value = np.argsort(value)
     rank[by_value] = np.arange(n_columns)
-    cell = np.zeros(n_columns)
+    cell = np.zeros((n_columns, n_stokes))
     seen = np.zeros(n_columns, np.bool_)
     touched = np.empty(n_columns, np.int64)
     for b in range(n):
@@ -309,7 +382,8 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
                 seen[c] = True
                 touched[nt] = rank[c]
                 nt += 1
-            cell[c] += weight[j]
+            for q in range(n_stokes):
+                cell[c, q] += weight[j, q]
         for r in np.sort(touched[:nt]):
             c = by_value[r]
             if not made[c]:
@@ -325,15 +399,17 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
                 for x in range(n_wl):
                     spectra[c, x] *= lights[c % n_lights, x]
                 made[c] = True
-            for x in range(n_wl):
-                out[b, x] += cell[c] * spectra[c, x]
-            cell[c], seen[c] = 0.0, False
+            for q in range(n_stokes):
+                for x in range(n_wl):
+                    out[b, q, x] += cell[c, q] * spectra[c, x]
+                cell[c, q] = 0.0
+            seen[c] = False
     return out
 
 
 def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=None, first_samples=None,
-                rs=None, counts=None, cones=None):
-    """Spectral radiance arriving along bundles of rays, averaged per bundle.
+                rs=None, counts=None, cones=None, frames=None):
+    """Spectral radiance arriving along bundles of rays, averaged per bundle; with ``frames``, its Stokes vector.
 
     Parameters
     ----------
@@ -364,15 +440,24 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         :func:`beeoptics.light.sensors.cone_samples`: the sun is then also
         sampled in each cone and weighed against the cone's samples by
         multiple importance sampling.
+    frames : ndarray, shape (n, 3), optional
+        Each bundle's reference direction for polarisation: a sample's
+        Stokes vector is in the frame whose e is this direction made
+        perpendicular to the sample's direction d, and f = d × e
+        (:mod:`beeoptics.light.mueller`). With it, polarisation is carried
+        from the sky through reflections (the sky's, the sun's and surfaces'
+        as they are, a Lambertian surface depolarising).
 
     Returns
     -------
-    ndarray, shape (n, n_wavelengths)
-        Spectral radiance, W m⁻² sr⁻¹ nm⁻¹.
+    ndarray, shape (n, n_wavelengths), or (n, 3, n_wavelengths) with ``frames``
+        Spectral radiance, W m⁻² sr⁻¹ nm⁻¹; with ``frames``, the spectral
+        Stokes vector (I, Q, U) in those units.
     """
     if depth < 1:
         raise ValueError("depth must be at least 1")
     rs = rs if rs is not None else raycasting_scene(scene)
+    polarised = frames is not None
     surfaces, lights = Surfaces(scene), Lights(scene)
     radix = len(scene.material_names) + 1
     if (depth + 1) * np.log2(radix) + np.log2(len(lights.spectra)) > 62:
@@ -383,14 +468,15 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     n, s = weights.shape
     eps = OFFSET * max(scene.extent, 1.0)
     sky, sun = scene.sky, scene.sun
-    sky_args = ((False, np.zeros(3), np.zeros((0, 10)), 0.0, 0.0, False) if sky is None else
-                (True, sky.sun, sky.shape, sky.cos_floor, sky.cos_offset, sky.hemisphere))
+    sky_args = ((False, np.zeros(3), np.zeros((0, 10)), 0.0, 0.0, False, np.zeros(2), 0.0) if sky is None else
+                (True, sky.sun, sky.shape, sky.cos_floor, sky.cos_offset, sky.hemisphere, sky.neutral_rad,
+                 sky.max_degree))
     sun_args = ((-1, np.zeros(3), 1.0, 1.0) if sun is None else
                 (lights.sun, sun.direction.astype(float), float(sun.cos_radius), float(sun.solid_angle)))
     cone_axis, cone_sigma = (np.zeros((n, 3)), np.zeros(n)) if cones is None else (
         np.ascontiguousarray(cones[0], float), np.broadcast_to(np.asarray(cones[1], float), (n,)).copy())
-    material_args = (lights.glows, lights.emission, surfaces.specular, surfaces.exponent, surfaces.mean_rho,
-                     surfaces.max_rho, radix, len(lights.spectra), eps)
+    material_args = (lights.glows, lights.emission, surfaces.specular, surfaces.exponent,
+                     surfaces.refractive_index, surfaces.mean_rho, surfaces.max_rho, radix, len(lights.spectra), eps)
 
     bundle = np.repeat(np.arange(n), s)
     stream = bundle if streams is None else np.repeat(streams, s)
@@ -405,7 +491,13 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     key = np.zeros(n * s, np.int64)
     sequences, numbers = _no_sequences()
     bound = np.ones(n * s)  # an upper bound of the throughput's spectral maximum
-    contributions = []  # (bundle, combo, weight)
+    contributions = []  # (bundle, combo, weights (k, n_stokes))
+    n_stokes = 3 if polarised else 1
+    mueller, frame = np.zeros((0, 3, 3)), np.zeros((0, 3))
+    if polarised:
+        mueller = np.zeros((n * s, 3, 3))
+        mueller[:, [0, 1, 2], [0, 1, 2]] = 1.0
+        frame = _frames(np.repeat(np.asarray(frames, float), s, axis=0), directions.reshape(-1, 3))
 
     if cones is not None and sun is not None:
         u = shifted_halton(s, seed, np.arange(n) if streams is None else streams, SUN_DIMENSIONS, first_samples)
@@ -414,7 +506,9 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         if len(rows):
             seen = ~occluded(rs, shadow)
             counts["shadow"] += len(rows)
-            contributions.append((bundle[rows[seen]], np.full(seen.sum(), lights.sun, np.int64), weight[seen]))
+            sunlight = np.zeros((seen.sum(), n_stokes))
+            sunlight[:, 0] = weight[seen]
+            contributions.append((bundle[rows[seen]], np.full(seen.sum(), lights.sun, np.int64), sunlight))
 
     paths = np.arange(n * s)
     for event in range(depth + 1):
@@ -426,7 +520,8 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
                                           out["primitive_ids"][hit].astype(np.int64), out["primitive_uvs"][hit])
         found, shadow, rows, lit, lit_key, scattered = _arrive(
             event, depth, rays, paths, out["t_hit"], out["primitive_normals"], material, w, key, bound, sequences,
-            numbers, bundle, stream, sample, seed, *sky_args, *sun_args, cone_axis, cone_sigma, *material_args)
+            numbers, bundle, stream, sample, seed, mueller, frame, *sky_args, *sun_args, cone_axis, cone_sigma,
+            *material_args)
         contributions.append(found)
         if len(rows):
             blocked = occluded(rs, shadow)
@@ -439,5 +534,17 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
 
     b, combo, weight = (np.concatenate(c) for c in zip(*contributions))
     total = weights.sum(axis=1)
-    return (_sum_contributions(b, combo, weight, n, lights.spectra, scene.reflectance, radix, depth,
-                               sequences) / total[:, None])
+    out = _sum_contributions(b, combo, weight, n, lights.spectra, scene.reflectance, radix, depth, sequences)
+    out /= total[:, None, None]
+    return out if polarised else out[:, 0]
+
+
+def _frames(reference, directions):
+    """Unit vectors perpendicular to ``directions`` (k, 3), nearest each ``reference`` (k, 3), or to
+    any perpendicular where a reference is parallel to its direction."""
+    e = reference - (reference * directions).sum(1, keepdims=True) * directions
+    norm = np.linalg.norm(e, axis=1)
+    parallel = norm < 1e-9
+    e[parallel] = tangent_frames(directions[parallel])[:, 0]
+    norm[parallel] = 1.0
+    return e / norm[:, None]

@@ -32,12 +32,14 @@ A spectrum in a scene file is one of:
     hemisphere: true, radiance: …}`` (:mod:`beeoptics.light.daylightrecords`;
     Spitschan et al.'s records start at 360 nm, so the grid must too).
 
-A material is ``{reflectance: <spectrum>, gloss: {specular: ks, exponent: n},
-emission: <spectrum>}``; only ``reflectance`` is required. The BRDF is
-Lambertian with the spectral reflectance, plus, with ``gloss``, a
-normalised Phong lobe (Lafortune & Willems 1994) of spectrally flat
-albedo ``ks``, as the surface reflection of a dielectric such as a waxy
-leaf cuticle is.
+A material is ``{reflectance: <spectrum>, gloss: {specular: ks, exponent: n,
+refractive_index: η}, emission: <spectrum>}``; only ``reflectance`` is
+required. The BRDF is Lambertian with the spectral reflectance, plus, with
+``gloss``, a normalised Phong lobe (Lafortune & Willems 1994) of spectrally
+flat albedo ``ks``, as the surface reflection of a dielectric such as a waxy
+leaf cuticle is; η sets how that reflection polarises (Fresnel; see
+:mod:`beeoptics.light.mueller`), :data:`CUTICLE_REFRACTIVE_INDEX` unless
+given.
 
 References
 ----------
@@ -45,6 +47,12 @@ Chittka L, Menzel R (1992) The evolutionary adaptation of flower colours
 and the insect pollinators' colour vision. J Comp Physiol A 171:171–181.
 Lafortune EP, Willems YD (1994) Using the modified Phong reflectance model
 for physically based rendering. Report CW197, KU Leuven.
+Féret J-B, François C, Asner GP, et al. (2008) PROSPECT-4 and 5: advances in
+the leaf optical properties model separating photosynthetic pigments.
+Remote Sens Environ 112:3030–3043.
+Daimon M, Masumura A (2007) Measurement of the refractive index of
+distilled water from the near-infrared region to the ultraviolet region.
+Appl Opt 46:3811–3820.
 Feister U, Grewe R (1995) Spectral albedo measurements in the UV and
 visible region over different types of surfaces. Photochem Photobiol
 62:736–744.
@@ -60,6 +68,10 @@ from beeoptics.io.errors import InputError
 from beeoptics.light.sky import cie_daylight
 from beeoptics.spectra import read_pavo_csv
 
+#: A glossy surface's refractive index unless its material gives one: a leaf's surface at 550 nm in
+#: PROSPECT (Féret et al. 2008; 1.4739 in its table of optical constants, 1.51–1.44 over 400–700 nm).
+#: Water's is 1.3334 at 587.6 nm (Daimon & Masumura 2007).
+CUTICLE_REFRACTIVE_INDEX = 1.4739
 #: Measured ground albedos (Feister & Grewe 1995), in pavo's layout; source in the folder's README.
 GROUND_ALBEDO_FILE = Path(__file__).parent / "data" / "ground_albedo_feister_grewe1995.csv"
 
@@ -123,7 +135,9 @@ def material(spec, wavelengths, base_dir, source, name):
     -------
     dict
         ``reflectance`` and ``emission`` on the grid, ``specular`` (albedo
-        of the glossy lobe) and ``exponent`` (its Phong exponent).
+        of the glossy lobe), ``exponent`` (its Phong exponent) and
+        ``refractive_index`` (how it polarises; :data:`CUTICLE_REFRACTIVE_INDEX`
+        unless given).
     """
     field = f"materials.{name}"
     if not isinstance(spec, dict) or "reflectance" not in spec:
@@ -140,5 +154,8 @@ def material(spec, wavelengths, base_dir, source, name):
     emission = spectrum(spec.get("emission", 0.0), wavelengths, base_dir, source, f"{field}.emission")
     if np.isnan(emission).any() or emission.min() < 0.0:
         raise InputError(source, f"{field}.emission", "emission must be non-negative")
+    n = gloss.get("refractive_index", CUTICLE_REFRACTIVE_INDEX)
+    if not isinstance(n, (int, float)) or not 1.0 <= n <= 4.0:
+        raise InputError(source, f"{field}.gloss.refractive_index", "a refractive index must be a number in [1, 4]")
     return {"reflectance": rho, "emission": emission, "specular": ks,
-            "exponent": float(gloss.get("exponent", 1.0))}
+            "exponent": float(gloss.get("exponent", 1.0)), "refractive_index": float(n)}

@@ -32,6 +32,9 @@ class Surfaces:
     ----------
     specular, exponent : ndarray (materials,)
         The glossy lobe's albedo k_s and Phong exponent n.
+    refractive_index : ndarray (materials,)
+        The surface's refractive index, for how the glossy lobe polarises
+        (:mod:`beeoptics.light.mueller`).
     mean_rho, max_rho : ndarray (materials,)
         The diffuse reflectance's mean and maximum over the grid.
     """
@@ -46,6 +49,7 @@ class Surfaces:
         self._objects = scene.objects
         self.specular = scene.specular
         self.exponent = scene.exponent
+        self.refractive_index = scene.refractive_index
         self.mean_rho = scene.reflectance.mean(axis=1)
         self.max_rho = scene.reflectance.max(axis=1)
 

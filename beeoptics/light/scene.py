@@ -52,8 +52,8 @@ class SceneObject(NamedTuple):
 class Scene(NamedTuple):
     """A loaded scene: geometry, materials on the spectral grid, the light, the bee and the camera.
 
-    ``reflectance`` and ``emission`` are (materials, wavelengths); ``specular``
-    and ``exponent`` (materials,) the glossy lobe of each material; ``sky``
+    ``reflectance`` and ``emission`` are (materials, wavelengths); ``specular``,
+    ``exponent`` and ``refractive_index`` (materials,) the glossy lobe of each material; ``sky``
     and ``sun`` are None where the scene has none. ``eye_rotation`` has the
     head's axes as columns, in the world frame; ``extent`` is the diagonal of
     the scene's bounding box, m.
@@ -67,6 +67,7 @@ class Scene(NamedTuple):
     emission: np.ndarray
     specular: np.ndarray
     exponent: np.ndarray
+    refractive_index: np.ndarray
     sky: Sky | None
     sun: Sun | None
     eye_position: np.ndarray
@@ -175,32 +176,7 @@ def load_scene(path, wavelengths, light=None, eye=None):
     mats = [material(data["materials"][n], wl, base, path, n) for n in names]
     objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])]
 
-    lt = data["light"]
-    sky = None
-    if lt["sky"] == "uniform":
-        if "radiance" not in lt:
-            raise InputError(path, "light.radiance", "a uniform sky needs a radiance spectrum")
-        radiance = spectrum(lt["radiance"], wl, base, path, "light.radiance")
-        if not np.isfinite(radiance).all() or radiance.min() < 0.0:
-            raise InputError(path, "light.radiance", "a sky's radiance must be finite and non-negative")
-        if "luminance_cd_m2" in lt:
-            radiance = radiance * lt["luminance_cd_m2"] / luminance(wl, radiance)
-        sky = uniform_sky(radiance, lt["hemisphere"])
-    clear = lt["sky"] in CLEAR_SKIES
-    if clear and lt["sun_elevation_deg"] <= 0.0:
-        raise InputError(path, "light.sun_elevation_deg",
-                         f"the {lt['sky']} sky is a daylight model: it needs the sun above the horizon")
-    sun = None
-    if lt["sun"] or clear:
-        albedo = spectrum(lt["ground_albedo"], wl, base, path, "light.ground_albedo")
-        if not np.isfinite(albedo).all() or albedo.min() < 0.0 or albedo.max() > 1.0:
-            raise InputError(path, "light.ground_albedo", "an albedo must lie between 0 and 1")
-        daylight = clear_sky(wl, lt["sun_elevation_deg"], lt["turbidity"], albedo, lt["day_of_year"])
-        sun = sun_disc(daylight, lt["sun_azimuth_deg"])
-    if clear:
-        sky = clear_sky_dome(lt["sky"], daylight, sun.direction, lt["turbidity"], albedo)
-    if not lt["sun"]:
-        sun = None
+    sky, sun = _light(data["light"], wl, base, path)
     # An emitting material lights the scene only if some object is made of it.
     used = set()
     for o in objects:
@@ -223,11 +199,52 @@ def load_scene(path, wavelengths, light=None, eye=None):
         emission=np.array([m["emission"] for m in mats]).reshape(-1, n_wl),
         specular=np.array([m["specular"] for m in mats]),
         exponent=np.array([m["exponent"] for m in mats]),
+        refractive_index=np.array([m["refractive_index"] for m in mats]),
         sky=sky, sun=sun,
         eye_position=np.asarray(e["position_m"], float), eye_rotation=head,
         camera=data.get("camera") or bee_camera(data["eye"]["position_m"], head),
         extent=float(np.linalg.norm(np.ptp(every, axis=0))),
     )
+
+
+def _light(lt, wl, base, path):
+    """The sky and the sun (each None if absent) of a checked ``light`` section, on the grid ``wl``."""
+    sky = None
+    if lt["sky"] == "uniform":
+        if "radiance" not in lt:
+            raise InputError(path, "light.radiance", "a uniform sky needs a radiance spectrum")
+        radiance = spectrum(lt["radiance"], wl, base, path, "light.radiance")
+        if not np.isfinite(radiance).all() or radiance.min() < 0.0:
+            raise InputError(path, "light.radiance", "a sky's radiance must be finite and non-negative")
+        if "luminance_cd_m2" in lt:
+            radiance = radiance * lt["luminance_cd_m2"] / luminance(wl, radiance)
+        sky = uniform_sky(radiance, lt["hemisphere"])
+    clear = lt["sky"] in CLEAR_SKIES
+    if clear and lt["sun_elevation_deg"] <= 0.0:
+        raise InputError(path, "light.sun_elevation_deg",
+                         f"the {lt['sky']} sky is a daylight model: it needs the sun above the horizon")
+    sun = None
+    if lt["sun"] or clear:
+        albedo = spectrum(lt["ground_albedo"], wl, base, path, "light.ground_albedo")
+        if not np.isfinite(albedo).all() or albedo.min() < 0.0 or albedo.max() > 1.0:
+            raise InputError(path, "light.ground_albedo", "an albedo must lie between 0 and 1")
+        daylight = clear_sky(wl, lt["sun_elevation_deg"], lt["turbidity"], albedo, lt["day_of_year"])
+        sun = sun_disc(daylight, lt["sun_azimuth_deg"])
+    if clear:
+        sky = clear_sky_dome(lt["sky"], daylight, sun.direction, lt["turbidity"], albedo, lt["polarisation"])
+    if not lt["sun"]:
+        sun = None
+    return sky, sun
+
+
+def relit(scene, wavelengths, light):
+    """``scene`` under its scene file's light with the overrides ``light``: a new sky and sun, the
+    same geometry and materials (no mesh or spectrum read again)."""
+    data = load_yaml(scene.path)
+    data.setdefault("light", {}).update(light)
+    data = validate(data, "scene", scene.path)
+    sky, sun = _light(data["light"], np.asarray(wavelengths, float), scene.path.parent, scene.path)
+    return scene._replace(sky=sky, sun=sun)
 
 
 def raycasting_scene(scene):

@@ -36,7 +36,7 @@ import colour
 import numpy as np
 from colour.constants import CONSTANT_K_M
 
-from beeoptics.light import hosekwilkie
+from beeoptics.light import hosekwilkie, skypolarisation
 from beeoptics.spectra import resample
 
 #: The clear skies, by the model that shapes them.
@@ -59,6 +59,9 @@ class Sky(NamedTuple):
     under a sun in direction ``sun`` (3,); a ``hemisphere`` sky is dark
     below the horizon. :func:`sky_coefficients` gives the weights (n, k)
     along directions, whose product with the basis is the radiance.
+    A clear sky is polarised (:mod:`beeoptics.light.skypolarisation`), with
+    its neutral points ``neutral_rad`` (2,) from the sun and maximum degree
+    ``max_degree``; a uniform sky is not (``max_degree`` 0).
     """
 
     model: str
@@ -68,6 +71,8 @@ class Sky(NamedTuple):
     sun: np.ndarray
     cos_floor: float = 0.0
     cos_offset: float = 0.0
+    neutral_rad: np.ndarray = np.zeros(2)
+    max_degree: float = 0.0
 
 
 #: The formula's row of a sky that is the same everywhere: C = 1, scale 1.
@@ -88,7 +93,7 @@ def _hemisphere(samples=QUADRATURE):
     return np.column_stack([sin_t * np.cos(phi), sin_t * np.sin(phi), np.sqrt(1.0 - u1.ravel())])
 
 
-def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo):
+def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo, polarisation="berry"):
     """A clear sky shaped by ``model`` (:data:`CLEAR_SKIES`) carrying ``daylight``'s diffuse irradiance.
 
     Parameters
@@ -102,6 +107,8 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo):
     turbidity : float
     albedo : ndarray, shape (n_wavelengths,)
         The ground's albedo on the daylight's grid (Hosek & Wilkie's sky depends on it).
+    polarisation : str
+        Its polarisation's model (:data:`beeoptics.light.skypolarisation.MODELS`).
     """
     wl = daylight.wavelengths
     sun = np.asarray(sun_direction, float)
@@ -118,7 +125,8 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo):
     # makes their blend integrate to the diffuse irradiance.
     per_basis = np.pi * sky_coefficients(shape, _hemisphere()).mean(0)
     scale = daylight.diffuse / np.maximum(weights @ per_basis, 1e-300)
-    return shape._replace(basis=(weights * scale[:, None]).T)
+    neutral, degree = skypolarisation.sky_polarisation(polarisation, np.degrees(np.arcsin(sun[2])), turbidity)
+    return shape._replace(basis=(weights * scale[:, None]).T, neutral_rad=neutral, max_degree=degree)
 
 
 def sky_coefficients(sky, directions):

@@ -65,13 +65,18 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     return counts
 
 
-def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None):
+def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None, polarised=False):
     """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
-    and the ray counts and seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built."""
+    and the ray counts and seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built.
+
+    ``polarised``: the spectral Stokes vectors instead, (last − first, 3, n_wavelengths), each in
+    the frame of the head's dorsal direction about the receptor's samples
+    (:func:`beeoptics.light.integrator.trace_paths`)."""
     origins, axes = receptors_in_world(scene, table.position, table.axis)
     drho = table.delta_rho_deg
     sigma = cone_sigma(drho)
     rs = raycasting_scene(scene) if rs is None else rs
+    dorsal = scene.eye_rotation[:, 2]
     counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
              settings.depth, settings.threads)
@@ -83,13 +88,17 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
         cast = {}
         radiance = trace_paths(scene, origins[blocks.bundle], dirs, weights, depth=settings.depth,
                                seed=settings.seed, streams=blocks.bundle, first_samples=blocks.first_sample, rs=rs,
-                               counts=cast, cones=(axes[blocks.bundle], sigma[blocks.bundle]))
+                               counts=cast, cones=(axes[blocks.bundle], sigma[blocks.bundle]),
+                               frames=np.broadcast_to(dorsal, (len(blocks.bundle), 3)) if polarised else None)
         with counting:
             for k, v in cast.items():
                 counts[k] += v
-        return radiance, weights.sum(axis=1)
+        return radiance.reshape(len(blocks.bundle), -1), weights.sum(axis=1)
 
-    radiance = trace_bundles(trace, first, last, settings, n_wavelengths, progress)
+    stokes = 3 if polarised else 1
+    radiance = trace_bundles(trace, first, last, settings, stokes * n_wavelengths, progress)
+    if polarised:
+        radiance = radiance.reshape(-1, stokes, n_wavelengths)
     counts["seconds"] = time.perf_counter() - start
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], counts["seconds"])

@@ -1,5 +1,5 @@
 """Vision: the receptors' spectral sensitivities, their catches, adaptation, the bee colour spaces,
-and the human observer to compare with.
+the human observer to compare with, receptors' polarisation sensitivity and the sky compass.
 
 Names follow pavo's where pavo has the concept (Maia et al. 2019), so R users recognise them.
 """
@@ -16,4 +16,7 @@ __all__, __getattr__ = exports(__name__, {
                     "hexagon_sector", "reflectance_catches", "rnl_distance", "spectral_locus", "triangle", "von_kries",
                     "widest_spectral_locus"),
     "human": ("srgb", "tristimulus"),
+    "polarisation": ("analyser_efficiency", "analyser_ps", "degree_and_angle", "head_frame_stokes",
+                     "receptor_catch"),
+    "compass": ("STEP_DEG", "candidate_suns", "expected_responses", "pol_responses", "read_out", "wrap_deg"),
 })

@@ -78,4 +78,8 @@ def all_targets():
     flights = [f"results/flights/{name}/{eye}/{product}" for name, flight in config["flights"].items()
                for eye in flight["eyes"]
                for product in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png")]
-    return eyes + figures + views + humans + summaries + flights
+    polarisation = expand("results/{eye}/{scene}/polarisation/{name}", eye=config["polarisation"]["eyes"],
+                          scene=config["polarisation"]["scenes"],
+                          name=["polarisation.csv", "field.png", "retina.png", "dorsal_rim.png", "compass.csv",
+                                "compass.json", "compass.png"])
+    return eyes + figures + views + humans + summaries + flights + polarisation
