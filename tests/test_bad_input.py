@@ -107,7 +107,8 @@ def bee_curves(wl):
 def default_config():
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
     cfg.update(eyes=["tiny"], scenes=["open"], eyes_dir=str(DATA / "eyes"), scenes_dir=str(DATA / "scenes"),
-               flights={"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"]}})
+               flights={"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"]}},
+               polarisation={"eyes": [], "scenes": []})
     return cfg
 
 
@@ -422,6 +423,18 @@ def test_a_flight_with_a_missing_file_eye_or_scene_is_named(tmp_path, change, fi
     with pytest.raises(InputError) as e:
         validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
     assert_names(e, tmp_path / "config.yaml", field)
+
+
+@pytest.mark.parametrize("change, field, says", [
+    (lambda p: p.update(eyes=["tiny"]), "polarisation.eyes.0", "no dorsal rim area"),
+    (lambda p: p.update(scenes=["flwer"]), "polarisation.scenes.0", "no scene 'flwer'"),
+])
+def test_polarisation_of_an_eye_without_a_dorsal_rim_or_of_a_missing_scene_is_named(tmp_path, change, field, says):
+    cfg = default_config()
+    change(cfg.setdefault("polarisation", {}))
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert says in assert_names(e, tmp_path / "config.yaml", field)
 
 
 def test_known_eyes_and_scenes_pass_the_config_check(tmp_path):

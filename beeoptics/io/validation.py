@@ -213,6 +213,7 @@ def _check_folders(config, source):
         named += [(f"flights.{f}.eyes.{i}", n) if key == "eyes" else (f"flights.{f}.scene", n)
                   for f, flight in config.get("flights", {}).items()
                   for i, n in enumerate(flight["eyes"] if key == "eyes" else [flight["scene"]])]
+        named += [(f"polarisation.{key}.{i}", n) for i, n in enumerate(config["polarisation"][key])]
         for field, name in named:
             if not (root / name / filename).is_file():
                 found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
@@ -221,6 +222,12 @@ def _check_folders(config, source):
                     f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
                     f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
                 )
+    for i, name in enumerate(config["polarisation"]["eyes"]):
+        eye = load_yaml(Path(config["eyes_dir"]) / name / "eye.yaml")
+        if not isinstance(eye, dict) or "dorsal_rim" not in eye:
+            raise InputError(source, f"polarisation.eyes.{i}",
+                             f"the eye {name!r} has no dorsal rim area (a dorsal_rim section in its eye.yaml), "
+                             "which the polarisation stages need")
     root = Path(config["scenes_dir"])
     for name, flight in config.get("flights", {}).items():
         if not (root / flight["scene"] / flight["path"]).is_file():

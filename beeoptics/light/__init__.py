@@ -16,7 +16,7 @@ from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
     "scene": ("Scene", "SceneObject", "bee_camera", "load_scene", "raycasting_scene",
-              "receptors_in_world", "relit"),
+              "posed", "receptors_in_world", "relit"),
     "materials": ("ground_albedo", "material", "spectrum"),
     "fred": ("catalogue", "find", "matching", "median_reflectance", "reflectance"),
     "daylight": ("Daylight", "angstrom_beta", "clear_sky", "write_daylight"),

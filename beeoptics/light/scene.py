@@ -237,6 +237,14 @@ def _light(lt, wl, base, path):
     return sky, sun
 
 
+def posed(scene, eye):
+    """``scene`` with the bee's head moved to ``eye``, a scene's ``eye`` section (``position_m``, and
+    ``heading_deg``, ``pitch_deg``, ``roll_deg``, 0 unless given)."""
+    return scene._replace(eye_position=np.asarray(eye["position_m"], float),
+                          eye_rotation=head_rotation(eye.get("heading_deg", 0.0), eye.get("pitch_deg", 0.0),
+                                                     eye.get("roll_deg", 0.0)))
+
+
 def relit(scene, wavelengths, light):
     """``scene`` under its scene file's light with the overrides ``light``: a new sky and sun, the
     same geometry and materials (no mesh or spectrum read again)."""

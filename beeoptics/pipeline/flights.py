@@ -5,8 +5,9 @@ Each stage reads its inputs, calls the library and writes ``outputs``, a
 mapping of output names to paths, atomically. A frame is traced exactly as
 a scene is (:func:`beeoptics.pipeline.trace.trace_receptors`), with the scene's
 eye moved to the flight's pose at the frame's time
-(:mod:`beeoptics.world.flight`), so frames are cached and spread over jobs
-one by one.
+(:mod:`beeoptics.world.flight`). A flight's frames are traced in shares of
+a few frames a job (``frames_per_job``): each job reads the scene once, and
+the shares are cached and spread over a cluster's nodes.
 """
 
 import numpy as np
@@ -16,11 +17,11 @@ from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode
 from beeoptics.images.fieldmaps import paint
 from beeoptics.io.atomic import atomic_path
-from beeoptics.io.imagefile import read_image, write_gif
+from beeoptics.io.imagefile import write_gif
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
-from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
-from beeoptics.pipeline.trace import human_view, respond, trace_receptors
+from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
+from beeoptics.pipeline.trace import display, render_human, respond, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS
@@ -36,40 +37,63 @@ def frame_count(flight_file, fps):
     return len(frame_times(read_flight(flight_file), fps))
 
 
-def frame_pose(flight_file, fps, frame):
-    """The head's pose at a frame."""
+def shares(flight_file, fps, frames_per_job):
+    """The first frame of each job's share of a flight's frames."""
+    return list(range(0, frame_count(flight_file, fps), frames_per_job))
+
+
+def _poses(flight_file, fps, first, count):
+    """The head's poses at frames ``first`` … ``first + count − 1`` (those the flight has)."""
     flight = read_flight(flight_file)
-    return pose(flight, frame_times(flight, fps)[frame])
+    return [pose(flight, t) for t in frame_times(flight, fps)[first:first + count]]
 
 
-def trace_frame(receptors_csv, scene_file, flight_file, outputs, *, frame, fps, spectral, settings):
-    """Trace every receptor at one frame of a flight: ``outputs["radiance"]`` (as a trace share) and
-    ``outputs["geometry"]`` (the pose, and each receptor's distance along its axis to the first surface,
-    infinite for the sky)."""
-    p = frame_pose(flight_file, fps, frame)
+def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, count, fps, spectral, settings):
+    """Trace every receptor at a share of a flight's frames: ``outputs["frames"]`` (npz).
+
+    The share is frames ``first`` … ``first + count − 1``; the scene and its
+    Embree scene are made once for all of them. The file holds, per frame,
+    each receptor's radiance (as a trace share), the pose, and each
+    receptor's distance along its axis to the first surface (infinite for
+    the sky).
+    """
     wl = grid(**spectral)
-    scene = load_scene(scene_file, wl, eye=p.eye())
+    scene = load_scene(scene_file, wl)
     table = read_receptors(receptors_csv)
     rs = raycasting_scene(scene)
-    radiance, _ = trace_receptors(scene, table, 0, len(table.id), settings, len(wl), rs=rs)
-    with atomic_path(outputs["radiance"]) as tmp:
-        np.savez(tmp, id=table.id, radiance=radiance)
-    origins, axes = receptors_in_world(scene, table.position, table.axis)
-    depth = first_hits(rs, np.column_stack([origins, axes]).astype(np.float32))["t_hit"].astype(np.float64)
-    with atomic_path(outputs["geometry"]) as tmp:
-        np.savez(tmp, id=table.id, depth_m=depth, time_s=p.time, position_m=p.position, rotation=p.rotation,
-                 velocity_m_s=p.velocity, angular_velocity_rad_s=p.angular_velocity)
+    radiance, depth, poses = [], [], _poses(flight_file, fps, first, count)
+    for p in poses:
+        here = posed(scene, p.eye())
+        radiance.append(trace_receptors(here, table, 0, len(table.id), settings, len(wl), rs=rs)[0])
+        origins, axes = receptors_in_world(here, table.position, table.axis)
+        depth.append(first_hits(rs, np.column_stack([origins, axes]).astype(np.float32))["t_hit"].astype(np.float64))
+    with atomic_path(outputs["frames"]) as tmp:
+        np.savez(tmp, id=table.id, frame=first + np.arange(len(poses)), radiance=np.array(radiance),
+                 depth_m=np.array(depth), time_s=np.array([p.time for p in poses]),
+                 position_m=np.array([p.position for p in poses]), rotation=np.array([p.rotation for p in poses]),
+                 velocity_m_s=np.array([p.velocity for p in poses]),
+                 angular_velocity_rad_s=np.array([p.angular_velocity for p in poses]))
 
 
-def human_frame(scene_file, flight_file, outputs, *, frame, fps, spectral, settings, size_px):
-    """The human view from the bee's head at one frame of a flight: ``outputs["png"]``."""
-    human_view(scene_file, outputs, spectral=spectral, settings=settings,
-               eye=frame_pose(flight_file, fps, frame).eye(), size_px=size_px)
+def human_frames(scene_file, flight_file, outputs, *, first, count, fps, spectral, settings, size_px):
+    """The human view from the bee's head at a share of a flight's frames (as :func:`trace_frames`):
+    ``outputs["frames"]`` (npz: ``srgb``, display sRGB in [0, 1], frames × height × width × 3)."""
+    wl = grid(**spectral)
+    scene = load_scene(scene_file, wl)
+    rs = raycasting_scene(scene)
+    images = []
+    for p in _poses(flight_file, fps, first, count):
+        here = posed(scene, p.eye())
+        images.append(display(render_human(here, bee_camera(here.eye_position, here.eye_rotation, *size_px),
+                                           settings, wl, rs)))
+    with atomic_path(outputs["frames"]) as tmp:
+        np.savez(tmp, srgb=np.array(images, np.float32))
 
 
-def flight_products(receptors_csv, scene_file, radiance_npzs, geometry_npzs, human_pngs, outputs, *, fps,
-                    spectral, target=None, background="scene", receptor_curves=PEITSCH_1992, title=""):
-    """The frames of one eye's flight, gathered.
+def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, *, fps, spectral, target=None,
+                    background="scene", receptor_curves=PEITSCH_1992, title=""):
+    """The frames of one eye's flight, gathered from the shares of :func:`trace_frames` and
+    :func:`human_frames` (``frame_npzs``, ``human_npzs``, in order).
 
     Writes ``responses`` (every receptor's catches and colour coordinates at
     every frame, with ``frame`` and ``t_s``), ``optic_flow`` (every
@@ -97,9 +121,13 @@ def flight_products(receptors_csv, scene_file, radiance_npzs, geometry_npzs, hum
     az = np.degrees(np.arctan2(head_axes[:, 1], head_axes[:, 0]))
     el = np.degrees(np.arcsin(np.clip(head_axes[:, 2], -1.0, 1.0)))
     responses, flows, targets, frames = [], [], [], []
-    for k, (radiance_npz, geometry_npz, human_png) in enumerate(zip(radiance_npzs, geometry_npzs, human_pngs)):
-        g = np.load(geometry_npz)
-        radiance = np.load(radiance_npz)["radiance"]
+    shares = [np.load(f) for f in frame_npzs]
+    humans = np.concatenate([np.load(f)["srgb"] for f in human_npzs])
+    every = [(s, j) for s in shares for j in range(len(s["frame"]))]
+    for k, ((share, j), human) in enumerate(zip(every, humans)):
+        g = {name: share[name][j] for name in ("depth_m", "time_s", "position_m", "rotation", "velocity_m_s",
+                                               "angular_velocity_rad_s")}
+        radiance = share["radiance"][j]
         columns, arrays = respond(table, radiance, scene, wl, scene_file, background=background,
                                   receptor_curves=receptor_curves)
         n = len(table.id)
@@ -127,7 +155,7 @@ def flight_products(receptors_csv, scene_file, radiance_npzs, geometry_npzs, hum
         panels = {"bee colours (map3)": np.where(seen[..., None], encode(paint(field, colours)), np.nan),
                   "UV catch over white's": np.repeat(np.clip(paint(field, relative[:, :1]), 0.0, 1.0), 3, -1)}
         frames.append(figures.visual_field_frame(panels, field.eyes, field.azimuth_deg, field.elevation_deg,
-                                                 read_image(human_png)[0][..., :3],
+                                                 human,
                                                  f"{title}, t = {float(g['time_s']):.2f} s"))
     write_table(outputs["responses"], {c: np.concatenate([r[c] for r in responses]) for c in responses[0]})
     write_table(outputs["optic_flow"], {c: np.concatenate([f[c] for f in flows]) for c in flows[0]})

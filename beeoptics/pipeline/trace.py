@@ -18,7 +18,7 @@ from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background
 from beeoptics.light.batching import trace_bundles
 from beeoptics.light.integrator import trace_paths
-from beeoptics.light.scene import bee_camera, load_scene, raycasting_scene, receptors_in_world
+from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
 from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.logs import log
@@ -176,22 +176,26 @@ def respond(table, radiance, scene, wl, scene_file, *, background="scene", recep
                      "background_q": reference, "white_radiance": white, "white_q": white_q}
 
 
-def human_view(scene_file, outputs, *, spectral, settings, eye=None, size_px=(320, 240)):
+def human_view(scene_file, outputs, *, spectral, settings):
     """What a person sees of a scene through its pinhole camera: ``outputs["png"]`` and ``["exr"]``.
 
     Traced like the receptors (``settings.samples`` rays per pixel), then
     mapped through the CIE 1931 observer to sRGB (PNG, the 99th percentile
     of luminance as white) and written as linear XYZ (EXR, channels ``X``,
-    ``Y``, ``Z``). With ``eye`` (overrides of the scene's eye section: a
-    flight's frame) the camera is the bee's own, ``size_px`` (width, height),
-    looking where its head looks (its roll left out), and only the PNG is
-    written.
+    ``Y``, ``Z``).
     """
     wl = grid(**spectral)
-    scene = load_scene(scene_file, wl, eye=eye)
-    camera = scene.camera if eye is None else bee_camera(scene.eye_position, scene.eye_rotation, *size_px)
+    scene = load_scene(scene_file, wl)
+    xyz = render_human(scene, scene.camera, settings, wl)
+    write_png(outputs["png"], display(xyz))
+    write_exr(outputs["exr"], xyz, ("X", "Y", "Z"))
+
+
+def render_human(scene, camera, settings, wavelengths, rs=None):
+    """The CIE 1931 XYZ image (height, width, 3) of ``scene`` through a pinhole ``camera`` (a scene's
+    ``camera`` section), ``settings.samples`` rays a pixel; ``rs``, the scene's Embree scene if built."""
     origin, dirs = pinhole_rays(camera, settings.samples, settings.seed)
-    rs = raycasting_scene(scene)
+    rs = raycasting_scene(scene) if rs is None else rs
 
     def trace(blocks):
         ones = np.ones((len(blocks.bundle), blocks.samples))
@@ -200,8 +204,10 @@ def human_view(scene_file, outputs, *, spectral, settings, eye=None, size_px=(32
                            depth=settings.depth, seed=settings.seed, streams=blocks.bundle,
                            first_samples=blocks.first_sample, rs=rs), ones.sum(axis=1)
 
-    xyz = tristimulus(wl, trace_bundles(trace, 0, len(dirs), settings, len(wl)))
-    shape = (camera["height_px"], camera["width_px"], 3)
-    write_png(outputs["png"], srgb(xyz, np.percentile(xyz[:, 1], HUMAN_WHITE_PERCENTILE)).reshape(shape))
-    if eye is None:
-        write_exr(outputs["exr"], xyz.reshape(shape), ("X", "Y", "Z"))
+    xyz = tristimulus(wavelengths, trace_bundles(trace, 0, len(dirs), settings, len(wavelengths)))
+    return xyz.reshape(camera["height_px"], camera["width_px"], 3)
+
+
+def display(xyz):
+    """A human view's display sRGB in [0, 1]: the :data:`HUMAN_WHITE_PERCENTILE` of luminance as white."""
+    return srgb(xyz, np.percentile(xyz[..., 1], HUMAN_WHITE_PERCENTILE))

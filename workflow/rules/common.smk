@@ -4,7 +4,7 @@ from pathlib import Path
 
 from beeoptics.pipeline import sweeps
 from beeoptics.pipeline.outputs import COLOUR_FIGURES, FIELD_MAPS, IMAGES as RETINAL_IMAGES
-from beeoptics.pipeline.flights import frame_count
+from beeoptics.pipeline.flights import shares
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.vision.sensitivity import PEITSCH_1992, TEMPLATE
 

@@ -1,4 +1,4 @@
-# Flights: every frame of a flight traced for each of its eyes, one job a frame, then gathered.
+# Flights: every frame of a flight traced for each of its eyes, a share of frames a job, then gathered.
 
 
 def flight_file(wildcards):
@@ -10,70 +10,70 @@ def flight_scene_sources(wildcards):
     return scene_files(config["flights"][wildcards.flight]["scene"])
 
 
-def flight_frames(wildcards):
-    """Every frame's files of one eye's flight, in order."""
+def flight_shares(wildcards):
+    """The files of one eye's flight, share by share, in order."""
     f = config["flights"][wildcards.flight]
-    n = frame_count(flight_file(wildcards), f["fps"])
+    firsts = shares(flight_file(wildcards), f["fps"], f["frames_per_job"])
     base = f"results/flights/{wildcards.flight}"
     return {
-        "radiance": [f"{base}/{wildcards.eye}/frames/{k}.npz" for k in range(n)],
-        "geometry": [f"{base}/{wildcards.eye}/frames/{k}_geometry.npz" for k in range(n)],
-        "human": [f"{base}/human/{k}.png" for k in range(n)],
+        "frames": [f"{base}/{wildcards.eye}/frames/{k}.npz" for k in firsts],
+        "human": [f"{base}/human/{k}.npz" for k in firsts],
     }
 
 
-rule flight_frame:
+rule flight_frames:
     input:
         receptors="results/eyes/{eye}/receptors.csv",
         scene=flight_scene_sources,
         flight=flight_file,
     output:
-        radiance="results/flights/{flight}/{eye}/frames/{frame}.npz",
-        geometry="results/flights/{flight}/{eye}/frames/{frame}_geometry.npz",
+        frames="results/flights/{flight}/{eye}/frames/{first}.npz",
     wildcard_constraints:
-        frame="[0-9]+",
+        first="[0-9]+",
     params:
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
         trace=lambda w: {**config["trace"], "samples_per_receptor": config["flights"][w.flight]["samples_per_receptor"]},
         fps=lambda w: config["flights"][w.flight]["fps"],
+        frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
     log:
-        "results/logs/flights/{flight}/{eye}/{frame}.log",
+        "results/logs/flights/{flight}/{eye}/{first}.log",
     threads: 8
     resources:
         mem_mb=4000,
         runtime=60,
     script:
-        "../scripts/flight_frame.py"
+        "../scripts/flight_frames.py"
 
 
-rule flight_human_frame:
+rule flight_human_frames:
     input:
         scene=flight_scene_sources,
         flight=flight_file,
     output:
-        png="results/flights/{flight}/human/{frame}.png",
+        frames="results/flights/{flight}/human/{first}.npz",
     wildcard_constraints:
-        frame="[0-9]+",
+        first="[0-9]+",
     params:
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
         trace=config["trace"],
         view=lambda w: config["flights"][w.flight]["human_view"],
         fps=lambda w: config["flights"][w.flight]["fps"],
+        frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
     log:
-        "results/logs/flights/{flight}/human/{frame}.log",
+        "results/logs/flights/{flight}/human/{first}.log",
     threads: 8
     resources:
         mem_mb=4000,
         runtime=30,
     script:
-        "../scripts/flight_human_frame.py"
+        "../scripts/flight_human_frames.py"
 
 
 rule flight:
     input:
-        unpack(flight_frames),
+        unpack(flight_shares),
         receptors="results/eyes/{eye}/receptors.csv",
         scene=flight_scene_sources,
         curves=sensitivity_files,

@@ -46,5 +46,7 @@ rule compass:
         receptor_curves=config["colour"]["sensitivities"],
     log:
         "results/logs/compass/{eye}/{scene}.log",
+    resources:
+        mem_mb=4000,
     script:
         "../scripts/compass.py"

@@ -1,7 +1,13 @@
-from beeoptics.pipeline.images import retinal_images
+from beeoptics.pipeline.images import colour_figures, retinal_images, visual_field_maps
 from beeoptics.pipeline.logs import logging_to
 
+title = f"{snakemake.wildcards.eye} in {snakemake.wildcards.scene}"
+out = snakemake.output
 with logging_to(snakemake.log[0]):
     retinal_images(snakemake.params.eye, snakemake.input.receptors, snakemake.input.responses,
-                   snakemake.input.irradiance, snakemake.output, width_px=snakemake.params.width_px,
-                   title=f"{snakemake.wildcards.eye} in {snakemake.wildcards.scene}")
+                   snakemake.input.irradiance, out, width_px=snakemake.params.width_px, title=title)
+    visual_field_maps(snakemake.input.receptors, snakemake.input.responses, snakemake.input.irradiance,
+                      snakemake.input.human, {"figure": out.figure, "exr": out.field_exr},
+                      width_px=snakemake.params.field_width_px)
+    colour_figures(snakemake.input.responses, snakemake.input.irradiance, out, title=title,
+                   receptor_curves=snakemake.params.receptor_curves)
