@@ -15,7 +15,7 @@ from beeoptics.io.meshfile import read_mesh
 from beeoptics.light.sensors import cone_samples
 from beeoptics.light.scene import load_scene
 from beeoptics.light.integrator import trace_paths
-from conftest import write_scene
+from conftest import ROOT, write_scene
 
 FLOWER = Path(__file__).parent / "data" / "scenes" / "flower"
 SKY = {"gaussian": {"base": 0.01, "peak": 0.05, "centre_nm": 400, "width_nm": 50}}
@@ -170,3 +170,14 @@ def test_a_fred_median_is_the_median_of_the_spectra_it_names(wavelengths):
     np.testing.assert_array_equal(got, want)
     with pytest.raises(InputError, match="no FReD spectrum"):
         spectrum({"fred": {"genus": "Nonexistentia", "median": True}}, wavelengths, ".", "scene.yaml", "petal")
+
+
+def test_a_scene_read_without_its_geometry_has_the_same_light_and_materials(wavelengths):
+    """geometry=False (what gathering the responses needs) keeps the sky, sun and materials, and no object."""
+    path = ROOT / "tests" / "data" / "scenes" / "flower" / "scene.yaml"
+    whole, light = load_scene(path, wavelengths), load_scene(path, wavelengths, geometry=False)
+    assert light.objects == [] and whole.objects
+    assert light.material_names == whole.material_names
+    np.testing.assert_array_equal(light.reflectance, whole.reflectance)
+    np.testing.assert_array_equal(light.sky.basis, whole.sky.basis)
+    np.testing.assert_array_equal(light.sun.radiance, whole.sun.radiance)

@@ -150,7 +150,7 @@ def bee_camera(position, head, width_px=320, height_px=240):
             "width_px": width_px, "height_px": height_px}
 
 
-def load_scene(path, wavelengths, light=None, eye=None):
+def load_scene(path, wavelengths, light=None, eye=None, geometry=True):
     """Read and check a scene file.
 
     Parameters
@@ -162,6 +162,9 @@ def load_scene(path, wavelengths, light=None, eye=None):
         Overrides for the scene's ``light`` section (for sweeps).
     eye : dict, optional
         Overrides for its ``eye`` section (a flight's frame).
+    geometry : bool
+        Read its objects; without them (for what needs only the light and
+        the materials) the scene has none, and is not checked for light.
     """
     path = Path(path)
     data = load_yaml(path)
@@ -174,7 +177,7 @@ def load_scene(path, wavelengths, light=None, eye=None):
     wl = np.asarray(wavelengths, float)
     names = list(data["materials"])
     mats = [material(data["materials"][n], wl, base, path, n) for n in names]
-    objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])]
+    objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])] if geometry else []
 
     sky, sun = _light(data["light"], wl, base, path)
     # An emitting material lights the scene only if some object is made of it.
@@ -185,7 +188,7 @@ def load_scene(path, wavelengths, light=None, eye=None):
                 used.update(np.unique(ids).tolist())
     emitting = any(mats[i]["emission"].max() > 0 for i in used)
     lit = (sky is not None and sky.basis.max() > 0) or (sun is not None and sun.radiance.max() > 0)
-    if not (lit or emitting):
+    if geometry and not (lit or emitting):
         raise InputError(path, "light", "the scene has no light: no sky, no sun above the horizon, "
                          "no object of an emitting material")
 

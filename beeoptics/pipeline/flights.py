@@ -113,7 +113,7 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
     """
     wl = grid(**spectral)
     table = read_receptors(receptors_csv)
-    scene = load_scene(scene_file, wl)
+    scene = load_scene(scene_file, wl, geometry=False)
     field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, MAP_WIDTH_PX)
     seen = field.receptor >= 0
     # Receptor axes in the head frame: azimuth and elevation of each, for the flow's components.

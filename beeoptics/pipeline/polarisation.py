@@ -36,7 +36,9 @@ from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, sensitivities
 #: The colour map of polarisation: hue the angle (0–180°, cyclic), saturation the degree, full value.
 POLARISATION_CAPTION = ("Polarisation each receptor sees, UV receptors' catch: hue is the angle of polarisation about "
                         "the receptor's axis (0° along the head's dorsal direction, 90° along the anterior; cyclic "
-                        "over 180°), saturation is the degree (white unpolarised, full colour 100 %).")
+                        "over 180°), saturation is the degree (white unpolarised, full colour 100 %). Measured "
+                        "towards the anterior, as the eyes' microvilli are, angles mirror between the eyes and "
+                        "jump where a receptor looks across the midline.")
 
 
 def _dorsal_rim(table, source):

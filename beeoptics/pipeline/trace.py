@@ -131,7 +131,7 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
     ids = np.concatenate([p["id"] for p in parts])
     if not np.array_equal(ids, table.id):
         raise InputError(part_npzs[0], "id", "the traced shares do not cover the receptor table in order")
-    scene = load_scene(scene_file, wl, light)
+    scene = load_scene(scene_file, wl, light, geometry=False)
     columns, arrays = respond(table, np.concatenate([p["radiance"] for p in parts]), scene, wl, scene_file,
                               background=background, receptor_curves=receptor_curves)
     write_table(outputs["responses"], columns)
