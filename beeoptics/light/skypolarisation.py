@@ -150,3 +150,13 @@ def polarisations(directions, sun, neutral, max_deg):
         degree[i] = polarisation(directions[i, 0], directions[i, 1], directions[i, 2], sun, neutral, max_deg,
                                  e_vectors[i])
     return degree, e_vectors
+
+
+@kernel
+def patterns(directions, suns, neutral, max_deg):
+    """:func:`polarisations` along ``directions`` (n, 3) under each of ``suns`` (k, 3): degrees (k, n) and
+    electric vectors (k, n, 3)."""
+    degree, e_vectors = np.empty((len(suns), len(directions))), np.empty((len(suns), len(directions), 3))
+    for j in range(len(suns)):
+        degree[j], e_vectors[j] = polarisations(directions, suns[j], neutral, max_deg)
+    return degree, e_vectors

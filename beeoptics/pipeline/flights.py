@@ -21,7 +21,7 @@ from beeoptics.io.imagefile import write_gif
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
-from beeoptics.pipeline.trace import display, render_human, respond, trace_receptors
+from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS
@@ -84,7 +84,7 @@ def human_frames(scene_file, flight_file, outputs, *, first, count, fps, spectra
     images = []
     for p in _poses(flight_file, fps, first, count):
         here = posed(scene, p.eye())
-        images.append(display(render_human(here, bee_camera(here.eye_position, here.eye_rotation, *size_px),
+        images.append(human_srgb(render_human(here, bee_camera(here.eye_position, here.eye_rotation, *size_px),
                                            settings, wl, rs)))
     with atomic_path(outputs["frames"]) as tmp:
         np.savez(tmp, srgb=np.array(images, np.float32))

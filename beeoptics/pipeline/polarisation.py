@@ -23,7 +23,7 @@ from beeoptics.io.table import write_table
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import load_scene, raycasting_scene, relit
 from beeoptics.light.sensors import cone_samples, cone_sigma
-from beeoptics.light.skypolarisation import polarisations
+from beeoptics.light.skypolarisation import patterns
 from beeoptics.pipeline.logs import log
 from beeoptics.pipeline.trace import trace_receptors
 from beeoptics.raycasting import first_hits
@@ -148,10 +148,8 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=
             pol = sky_compass.pol_responses(catches, table.microvilli_deg[rim], dorsal_rim_ps)
             sun = rotation.T @ scene.sun.direction
             suns, candidates = sky_compass.candidate_suns(np.degrees(np.arcsin(sun[2])))
-            pattern = [polarisations(table.axis[rim], s, np.zeros(2), 1.0) for s in suns]
-            expected = sky_compass.expected_responses(np.array([p for p, _ in pattern]),
-                                                      np.array([e for _, e in pattern]), table.axis[rim],
-                                                      table.microvilli_deg[rim])
+            expected = sky_compass.expected_responses(*patterns(table.axis[rim], suns, np.zeros(2), 1.0),
+                                                      table.axis[rim], table.microvilli_deg[rim])
             e, c = sky_compass.read_out(pol, expected, candidates)
             estimate.append(e)
             confidence.append(c)

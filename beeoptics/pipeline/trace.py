@@ -187,7 +187,7 @@ def human_view(scene_file, outputs, *, spectral, settings):
     wl = grid(**spectral)
     scene = load_scene(scene_file, wl)
     xyz = render_human(scene, scene.camera, settings, wl)
-    write_png(outputs["png"], display(xyz))
+    write_png(outputs["png"], human_srgb(xyz))
     write_exr(outputs["exr"], xyz, ("X", "Y", "Z"))
 
 
@@ -208,6 +208,6 @@ def render_human(scene, camera, settings, wavelengths, rs=None):
     return xyz.reshape(camera["height_px"], camera["width_px"], 3)
 
 
-def display(xyz):
+def human_srgb(xyz):
     """A human view's display sRGB in [0, 1]: the :data:`HUMAN_WHITE_PERCENTILE` of luminance as white."""
     return srgb(xyz, np.percentile(xyz[..., 1], HUMAN_WHITE_PERCENTILE))

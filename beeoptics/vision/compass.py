@@ -76,7 +76,8 @@ def expected_responses(degree, e_vectors, axes_head, microvilli_deg):
     frame) for each candidate (Rayleigh's, for the read-out's template);
     ``microvilli_deg`` (n,).
     """
-    angle = np.stack([microvillar_angle(axes_head, e) for e in e_vectors])
+    k, n = np.shape(degree)
+    angle = microvillar_angle(np.tile(axes_head, (k, 1)), np.reshape(e_vectors, (k * n, 3))).reshape(k, n)
     return degree * np.cos(2.0 * np.radians(microvilli_deg - angle))
 
 
