@@ -87,6 +87,14 @@ def test_build_eye_writes_the_receptor_table(built):
     assert not list(built.glob(".partial-*"))
 
 
+def test_building_the_eye_again_writes_the_same_bytes(built, tmp_path):
+    """Identical runs give identical files: no timing is written into them (the relaxation's time is logged)."""
+    again = tmp_path / "again"
+    assert cli.main(["build-eye", str(EYE), "-o", str(again), "--quiet"]) == 0
+    for name in ("quality.json", "receptors.csv", "remeshed.ply"):
+        assert (again / name).read_bytes() == (built / name).read_bytes(), name
+
+
 def test_render_writes_responses_and_images(rendered):
     responses = read_table(rendered / "responses.csv")
     assert len(responses["id"]) == 600 and np.all(responses["G"] > 0)

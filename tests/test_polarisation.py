@@ -7,7 +7,9 @@ from beeoptics.headframe import direction_from_x_towards_y, microvillar_angle
 from beeoptics.light import mueller
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import load_scene
-from beeoptics.light.skypolarisation import max_degree, neutral_points_deg, polarisations, sky_polarisation
+from beeoptics.light.hosekwilkie import CHANNELS_NM
+from beeoptics.light.skypolarisation import (degree, depolarisation_factor, king_factor, max_degree, neutral_points_deg,
+                                              polarisations, sky_polarisation)
 from beeoptics.vision import compass
 from beeoptics.vision.polarisation import degree_and_angle, head_frame_stokes, receptor_catch
 from conftest import write_scene
@@ -285,6 +287,45 @@ def test_a_lambertian_surface_depolarises_the_polarised_sky(lambertian_meadow):
     degree = degree_and_angle(np.moveaxis(stokes, 1, -1))[0]
     assert degree[d[:, 2] > 0].min() > 0.05
     np.testing.assert_array_equal(stokes[d[:, 2] < 0, 1:], 0.0)
+
+
+def test_airs_depolarisation_factor_follows_its_king_factor_and_falls_with_wavelength():
+    """Bodhaine et al.'s (1999) King factor gives ρ by F = (6 + 3ρ)/(6 − 7ρ): falling with wavelength, and
+    within 2 % of the visible-light value 0.0279 (Young 1980) from 550 to 700 nm."""
+    wl = np.arange(300.0, 701.0, 10.0)
+    rho, f = depolarisation_factor(wl), king_factor(wl)
+    np.testing.assert_allclose((6 + 3 * rho) / (6 - 7 * rho), f, rtol=1e-14)
+    assert np.all(np.diff(rho) < 0)
+    np.testing.assert_allclose(rho[wl >= 550], 0.0279, rtol=0.02)
+
+
+def test_anisotropic_molecules_polarise_as_the_rayleigh_phase_matrix():
+    """The degree of air's single scattering is −P12/P11 of Hansen & Travis's (1974) phase matrix with
+    Δ = (1 − ρ)/(1 + ρ/2), (1 − ρ)/(1 + ρ) at 90° from the sun, Rayleigh's sin²γ/(1 + cos²γ) at ρ = 0."""
+    gamma = np.radians(np.linspace(0.0, 180.0, 37))
+    for rho in (0.0, 0.0279, 0.0317, 0.2):
+        delta = (1 - rho) / (1 + rho / 2)
+        p11 = delta * 0.75 * (1 + np.cos(gamma) ** 2) + 1 - delta
+        p12 = -delta * 0.75 * np.sin(gamma) ** 2
+        got = np.array([degree(np.sin(g) ** 2, 1.0, rho) for g in gamma])
+        np.testing.assert_allclose(got, -p12 / p11, atol=1e-14)
+        assert degree(1.0, 1.0, rho) == pytest.approx((1 - rho) / (1 + rho), abs=1e-15)
+
+
+def test_a_traced_clear_sky_has_the_models_degree_at_each_channel_and_less_in_the_uv(tmp_path, wavelengths):
+    """Berry's sky traced on the full grid: at each of Hosek & Wilkie's channels the degree is the model's
+    with air's depolarisation there, and the UV's degree is below the green's wherever the sky is polarised."""
+    scene = scene_file(tmp_path, wavelengths, dict(CLEAR, polarisation="berry"))
+    axes = sphere(300, seed=8, min_z=0.05)
+    stokes = traced(scene, axes, np.tile([0.0, 0.0, 1.0], (len(axes), 1)))
+    traced_degree = degree_and_angle(np.moveaxis(stokes, 1, -1))[0]
+    neutral, p_max = sky_polarisation("berry", 35.0, 3.0)
+    for nm in CHANNELS_NM[CHANNELS_NM <= wavelengths[-1]]:
+        want = polarisations(axes, scene.sky.sun, neutral, p_max, float(depolarisation_factor(nm)))[0]
+        np.testing.assert_allclose(traced_degree[:, np.flatnonzero(wavelengths == nm)[0]], want, atol=1e-6)
+    uv, green = (traced_degree[:, np.flatnonzero(wavelengths == nm)[0]] for nm in (360.0, 520.0))
+    polarised = green > 0.05
+    assert polarised.sum() > 100 and np.all(uv[polarised] < green[polarised])
 
 
 def test_traced_sky_in_the_eye_frame_is_the_sky_models(tmp_path, wavelengths):

@@ -37,12 +37,14 @@ from beeoptics.eye.relax import relax
 
 class BuiltEye(NamedTuple):
     """An eye's receptors (:class:`~beeoptics.io.receptortable.ReceptorTable`),
-    its quality figures (a JSON-ready dict) and its relaxation's snapshots
-    (arrays, see :func:`build_eye`)."""
+    its quality figures (a JSON-ready dict), its relaxation's snapshots
+    (arrays, see :func:`build_eye`) and the relaxation's wall time, s (kept
+    out of the quality figures, so that identical runs write identical files)."""
 
     receptors: object
     quality: dict
     relaxation: dict
+    seconds: float
 
 
 def build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress=None):
@@ -125,7 +127,6 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         "grid_pitch_um": pitch * 1e3,
         "relaxation": {
             "iterations": result.iterations,
-            "seconds": seconds,
             "tolerance_um": tolerance_um,
             "fill_factor": result.fill_factor,
         },
@@ -147,4 +148,4 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         "facet_diameter_um": facet_um,
         "boundary_xy": vertices[igl.boundary_loop(faces), :2],
     }
-    return BuiltEye(receptor_table(eye, points, axes, facet_um, dphi, drho, rim), quality, relaxation)
+    return BuiltEye(receptor_table(eye, points, axes, facet_um, dphi, drho, rim), quality, relaxation, seconds)

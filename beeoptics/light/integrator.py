@@ -75,7 +75,7 @@ from beeoptics.light.mueller import depolarise, double_angle, plane_normal, refl
 from beeoptics.light.sampler import shifted_halton, tangent_frames, uniform1
 from beeoptics.light.scattering import Surfaces, phong, scatter
 from beeoptics.light.scene import raycasting_scene
-from beeoptics.light.skypolarisation import polarisation
+from beeoptics.light.skypolarisation import degree, polarisation
 from beeoptics.light.sensors import cone_density
 from beeoptics.raycasting import first_hits, occluded
 
@@ -104,7 +104,7 @@ def _put(weights, row, scale, mueller, i, column):
 @kernel
 def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, sequences, numbers, bundle, stream,
             sample, seed, mueller, frame, has_sky, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere,
-            sky_neutral, sky_max_degree, sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis,
+            sky_neutral, sky_max_degree, sky_depolarisation, sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis,
             cone_sigma, glows, emission_row, specular, exponent, refractive_index, mean_rho, max_rho, radix,
             n_lights, eps):
     """What the paths ``paths`` meet along ``rays``: light where they leave the scene or meet a glowing
@@ -119,9 +119,9 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     of Mueller matrices from its bundle to its ray (``mueller``, (N, 3, 3))
     and its ray's reference frame (``frame``, (N, 3)), updated in place, and
     every contribution is a Stokes vector at the bundle (I, Q, U). The
-    sky's degree of polarisation is the same at every wavelength
-    (:mod:`beeoptics.light.skypolarisation`), so its light stays one
-    contribution per basis spectrum.
+    sky's degree of polarisation is taken at each basis spectrum's
+    wavelength (``sky_depolarisation``, :mod:`beeoptics.light.skypolarisation`),
+    so its light stays one contribution per basis spectrum.
 
     Returns
     -------
@@ -163,17 +163,19 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
             # surface, next-event estimation has counted the sun).
             if n_sky:
                 shape_radiance(d[0], d[1], d[2], sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere, sky)
-                q_sky = u_sky = 0.0
+                size = c2 = s2 = 0.0
                 if n_stokes == 3:
-                    degree = polarisation(du[0], du[1], du[2], sky_sun, sky_neutral, sky_max_degree, e_vector)
+                    size = polarisation(du[0], du[1], du[2], sky_sun, sky_neutral, e_vector)
                     c2, s2 = double_angle(e_vector[0], e_vector[1], e_vector[2], frame[i], du)
-                    q_sky, u_sky = degree * c2, degree * s2
                 for k in range(n_sky):
                     if sky[k] != 0.0:
                         c_bundle[nc], c_combo[nc] = b, key[i] * n_lights + k
                         if n_stokes == 1:
                             c_weight[nc, 0] = w[i] * sky[k]
                         else:
+                            # The degree at the basis spectrum's wavelength.
+                            p = degree(size, sky_max_degree, sky_depolarisation[k])
+                            q_sky, u_sky = p * c2, p * s2
                             for q in range(3):
                                 c_weight[nc, q] = w[i] * sky[k] * (mueller[i, q, 0] + mueller[i, q, 1] * q_sky
                                                                    + mueller[i, q, 2] * u_sky)
@@ -468,9 +470,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     n, s = weights.shape
     eps = OFFSET * max(scene.extent, 1.0)
     sky, sun = scene.sky, scene.sun
-    sky_args = ((False, np.zeros(3), np.zeros((0, 10)), 0.0, 0.0, False, np.zeros(2), 0.0) if sky is None else
+    sky_args = ((False, np.zeros(3), np.zeros((0, 10)), 0.0, 0.0, False, np.zeros(2), 0.0, np.zeros(1))
+                if sky is None else
                 (True, sky.sun, sky.shape, sky.cos_floor, sky.cos_offset, sky.hemisphere, sky.neutral_rad,
-                 sky.max_degree))
+                 sky.max_degree, np.broadcast_to(sky.depolarisation, len(sky.shape)).astype(float)))
     sun_args = ((-1, np.zeros(3), 1.0, 1.0) if sun is None else
                 (lights.sun, sun.direction.astype(float), float(sun.cos_radius), float(sun.solid_angle)))
     cone_axis, cone_sigma = (np.zeros((n, 3)), np.zeros(n)) if cones is None else (

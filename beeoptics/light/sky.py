@@ -60,8 +60,9 @@ class Sky(NamedTuple):
     below the horizon. :func:`sky_coefficients` gives the weights (n, k)
     along directions, whose product with the basis is the radiance.
     A clear sky is polarised (:mod:`beeoptics.light.skypolarisation`), with
-    its neutral points ``neutral_rad`` (2,) from the sun and maximum degree
-    ``max_degree``; a uniform sky is not (``max_degree`` 0).
+    its neutral points ``neutral_rad`` (2,) from the sun, maximum degree
+    ``max_degree`` and the air's depolarisation factor at each basis
+    spectrum (``depolarisation``, (k,)); a uniform sky is not (``max_degree`` 0).
     """
 
     model: str
@@ -73,6 +74,7 @@ class Sky(NamedTuple):
     cos_offset: float = 0.0
     neutral_rad: np.ndarray = np.zeros(2)
     max_degree: float = 0.0
+    depolarisation: np.ndarray = np.zeros(1)
 
 
 #: The formula's row of a sky that is the same everywhere: C = 1, scale 1.
@@ -117,16 +119,21 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo, polarisati
         shape = Sky(model, None, True, hosekwilkie.channel_shape(sun, turbidity, albedo), sun, 0.0,
                     hosekwilkie.COS_OFFSET)
         weights = hosekwilkie.channel_weights(wl)
+        basis_nm = hosekwilkie.CHANNELS_NM
     else:
         a, b, c, d, e = _PEREZ_Y[:, 0] * turbidity + _PEREZ_Y[:, 1]
         shape = Sky(model, None, True, np.array([[a, b, 1.0, c, d, e, 0.0, 0.0, 0.0, 1.0]]), sun, PEREZ_COS_FLOOR)
         weights = np.ones((len(wl), 1))
+        # One basis spectrum at every wavelength: its polarisation is air's at 555 nm, where
+        # Perez's luminance distribution is defined (the photopic peak).
+        basis_nm = np.array([555.0])
     # Each basis spectrum's irradiance, then the wavelength-by-wavelength scale that
     # makes their blend integrate to the diffuse irradiance.
     per_basis = np.pi * sky_coefficients(shape, _hemisphere()).mean(0)
     scale = daylight.diffuse / np.maximum(weights @ per_basis, 1e-300)
     neutral, degree = skypolarisation.sky_polarisation(polarisation, np.degrees(np.arcsin(sun[2])), turbidity)
-    return shape._replace(basis=(weights * scale[:, None]).T, neutral_rad=neutral, max_degree=degree)
+    return shape._replace(basis=(weights * scale[:, None]).T, neutral_rad=neutral, max_degree=degree,
+                          depolarisation=skypolarisation.basis_depolarisation(polarisation, basis_nm))
 
 
 def sky_coefficients(sky, directions):

@@ -31,10 +31,25 @@ fitted for 0–64°, held at the ends beyond):
 p_max = exp(−(T − 0.6)/4) (Wilkie et al. 2004, as implemented in the
 skylight model of Gkanias et al. 2019): 0.70 at T = 2, 0.55 at T = 3.
 
-The degree here does not depend on wavelength: measured skies are less
-polarised in the UV than in the blue and green (Barta & Horváth 2004;
-Brines & Gould 1982), but no model or table of that dependence with
-numbers was found, so none is made up. The sun's own light is unpolarised.
+The degree depends on wavelength through the anisotropy of the air's
+molecules, which depolarises even single scattering: with the
+depolarisation factor ρ (the ratio of the parallel to the perpendicular
+intensity at 90°), Rayleigh's degree becomes
+p = (1 − ρ) sin²γ / (1 + ρ + (1 − ρ) cos²γ) (from the phase matrix of
+Hansen & Travis 1974, eqs. 2.14–2.15), (1 − ρ)/(1 + ρ) at 90°. ρ of air
+follows from its King factor F (Bodhaine et al. 1999, eqs. 5, 6 and 23: the
+N₂ and O₂ factors of Bates 1984, weighted by volume, 360 ppm CO₂) as
+ρ = 6(F − 1)/(3 + 7F): 0.0317 at 320 nm, 0.0283 at 550 nm, 0.0278 at
+700 nm, so the degree at 90° is 0.939 in the UV and 0.946 in the red. In
+Berry et al.'s pattern the same factor scales its |w| (sin²γ when the
+points merge): p = p_max (1 − ρ)|w| / (2 − (1 − ρ)|w|), with Wilkie et al.'s
+p_max (1 at T = 0.6, so without the molecules' share) the turbidity's. This is
+the only wavelength dependence modelled: measured skies lose more of their
+polarisation in the UV than molecular anisotropy explains, to multiple
+scattering (Barta & Horváth 2004; Brines & Gould 1982), for which no model
+or table with numbers was found, so none is made up. The ``rayleigh``
+model stays the textbook reference (isotropic molecules, ρ = 0). The sun's
+own light is unpolarised.
 
 References
 ----------
@@ -53,6 +68,12 @@ Barta A, Horváth G (2004) Why is it advantageous for animals to detect
 celestial polarization in the ultraviolet? J Theor Biol 226:429–437.
 Brines ML, Gould JL (1982) Skylight polarization patterns and animal
 orientation. J Exp Biol 96:69–91.
+Hansen JE, Travis LD (1974) Light scattering in planetary atmospheres.
+Space Sci Rev 16:527–610.
+Bodhaine BA, Wood NB, Dutton EG, Slusser JR (1999) On Rayleigh optical
+depth calculations. J Atmos Ocean Technol 16:1854–1861 (as implemented in
+libRadtran's rayleigh.c).
+Bates DR (1984) Rayleigh scattering by air. Planet Space Sci 32:785–790.
 """
 
 import numpy as np
@@ -61,6 +82,31 @@ from beeoptics.jit import kernel
 
 #: Sky polarisation models: single-scattering Rayleigh, and Berry et al.'s with four neutral points.
 MODELS = ("rayleigh", "berry")
+#: Air's gases by volume, percent, and their King factors where constant (Bodhaine et al. 1999, eq. 23:
+#: N₂, O₂, Ar with F = 1.00, CO₂ at their 360 ppm with F = 1.15).
+_N2, _O2, _AR, _CO2 = 78.084, 20.946, 0.934, 0.036
+_F_AR, _F_CO2 = 1.00, 1.15
+
+
+def king_factor(wavelength_nm):
+    """The King factor F of air at wavelengths in nm (Bodhaine et al. 1999, eqs. 5, 6, 23; Bates 1984)."""
+    um2 = (np.asarray(wavelength_nm, float) / 1000.0) ** 2
+    f_n2 = 1.034 + 3.17e-4 / um2
+    f_o2 = 1.096 + 1.385e-3 / um2 + 1.448e-4 / um2 ** 2
+    return (_N2 * f_n2 + _O2 * f_o2 + _AR * _F_AR + _CO2 * _F_CO2) / (_N2 + _O2 + _AR + _CO2)
+
+
+def depolarisation_factor(wavelength_nm):
+    """Air's depolarisation factor ρ at wavelengths in nm, from its King factor F = (6 + 3ρ)/(6 − 7ρ)."""
+    f = king_factor(wavelength_nm)
+    return 6.0 * (f - 1.0) / (3.0 + 7.0 * f)
+
+
+def basis_depolarisation(model, wavelengths_nm):
+    """The depolarisation factor a sky's polarisation ``model`` has at each of its basis spectra's wavelengths:
+    air's for ``berry``, none for ``rayleigh`` (isotropic molecules, the analytic reference)."""
+    wl = np.atleast_1d(np.asarray(wavelengths_nm, float))
+    return depolarisation_factor(wl) if model == "berry" else np.zeros(len(wl))
 
 
 def neutral_points_deg(sun_elevation_deg):
@@ -93,8 +139,17 @@ def _chart(x, y, z):
 
 
 @kernel
-def polarisation(x, y, z, sun, neutral, max_deg, e_vector):
-    """The degree of polarisation of skylight along (x, y, z), with its electric vector's line in ``e_vector`` (3,).
+def degree(size, max_deg, depolarisation):
+    """The degree of polarisation of a sky point of Berry et al.'s |w| ``size`` (:func:`polarisation`), under a
+    maximum degree ``max_deg`` and at a wavelength of the air's depolarisation factor ``depolarisation``."""
+    a = (1.0 - depolarisation) * size
+    return max_deg * a / (2.0 - a)
+
+
+@kernel
+def polarisation(x, y, z, sun, neutral, e_vector):
+    """Berry et al.'s |w| of skylight along (x, y, z) (sin²γ in Rayleigh's pattern), and its electric vector's
+    line in ``e_vector`` (3,): the degree is :func:`degree` of it.
 
     Parameters
     ----------
@@ -105,8 +160,6 @@ def polarisation(x, y, z, sun, neutral, max_deg, e_vector):
     neutral : ndarray (2,)
         The Babinet and Brewster points' distances from the sun, radians
         (zero: Rayleigh's pattern).
-    max_deg : float
-        The maximum degree p_max.
     e_vector : ndarray (3,)
         Written: a unit vector perpendicular to (x, y, z) along the electric
         vector's line.
@@ -139,24 +192,25 @@ def polarisation(x, y, z, sun, neutral, max_deg, e_vector):
         e_vector[0], e_vector[1], e_vector[2] = ex / norm, ey / norm, ez / norm
     else:
         e_vector[0], e_vector[1], e_vector[2] = 1.0, 0.0, 0.0
-    return max_deg * size / (2.0 - size)
+    return size
 
 
 @kernel
-def polarisations(directions, sun, neutral, max_deg):
-    """:func:`polarisation` along each unit direction (n, 3): degrees (n,) and electric vectors (n, 3)."""
-    degree, e_vectors = np.empty(len(directions)), np.empty((len(directions), 3))
+def polarisations(directions, sun, neutral, max_deg, depolarisation=0.0):
+    """The degree (n,) and electric vector (n, 3) of skylight along each unit direction (n, 3), at a wavelength
+    of air's ``depolarisation`` factor (0 by default: isotropic molecules)."""
+    degrees, e_vectors = np.empty(len(directions)), np.empty((len(directions), 3))
     for i in range(len(directions)):
-        degree[i] = polarisation(directions[i, 0], directions[i, 1], directions[i, 2], sun, neutral, max_deg,
-                                 e_vectors[i])
-    return degree, e_vectors
+        size = polarisation(directions[i, 0], directions[i, 1], directions[i, 2], sun, neutral, e_vectors[i])
+        degrees[i] = degree(size, max_deg, depolarisation)
+    return degrees, e_vectors
 
 
 @kernel
-def patterns(directions, suns, neutral, max_deg):
+def patterns(directions, suns, neutral, max_deg, depolarisation=0.0):
     """:func:`polarisations` along ``directions`` (n, 3) under each of ``suns`` (k, 3): degrees (k, n) and
     electric vectors (k, n, 3)."""
-    degree, e_vectors = np.empty((len(suns), len(directions))), np.empty((len(suns), len(directions), 3))
+    degrees, e_vectors = np.empty((len(suns), len(directions))), np.empty((len(suns), len(directions), 3))
     for j in range(len(suns)):
-        degree[j], e_vectors[j] = polarisations(directions, suns[j], neutral, max_deg)
-    return degree, e_vectors
+        degrees[j], e_vectors[j] = polarisations(directions, suns[j], neutral, max_deg, depolarisation)
+    return degrees, e_vectors

@@ -24,6 +24,7 @@ from beeoptics.io.meshfile import read_mesh_normals, write_mesh
 from beeoptics.io.receptortable import read_receptors, write_receptors
 from beeoptics.headframe import RIGHT
 from beeoptics.io.table import write_table
+from beeoptics.pipeline.logs import log
 from beeoptics.vision.sensitivity import LAMBDA_MAX_APIS, RECEPTORS
 
 #: Wavelengths at which the Rayleigh limit is given, one per receptor class: its λmax (Peitsch et al. 1992).
@@ -52,7 +53,8 @@ def build_facets(eye_file, remeshed_ply, outputs, *, tolerance_um, acceptance, p
 
     Writes ``receptors`` (the receptor table of both eyes), ``quality``
     (JSON) and ``relaxation`` (the lattice's snapshots, npz); see
-    :func:`beeoptics.eye.build.build_eye`.
+    :func:`beeoptics.eye.build.build_eye`. Logs, and returns, the
+    relaxation's wall time in seconds.
 
     Parameters
     ----------
@@ -67,6 +69,8 @@ def build_facets(eye_file, remeshed_ply, outputs, *, tolerance_um, acceptance, p
     write_json(outputs["quality"], built.quality)
     with atomic_path(outputs["relaxation"]) as tmp:
         np.savez_compressed(tmp, **built.relaxation)
+    log.info("%s: %d facets an eye relaxed in %.1f s", eye.name, built.quality["facets_per_eye"], built.seconds)
+    return built.seconds
 
 
 def eye_figures(eye_file, relaxation_npz, receptors_csv, quality_json, outputs):

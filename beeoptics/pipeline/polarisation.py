@@ -30,7 +30,7 @@ from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision import compass as sky_compass
 from beeoptics.vision.catches import quantum_catches
-from beeoptics.vision.polarisation import degree_and_angle, head_frame_stokes, receptor_catch
+from beeoptics.vision.polarisation import DORSAL_RIM_PS, degree_and_angle, head_frame_stokes, receptor_catch
 from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, sensitivities
 
 #: The colour map of polarisation: hue the angle (0–180°, cyclic), saturation the degree, full value.
@@ -112,7 +112,7 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
 
 
 def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=36, turbidities=(2.0, 3.0, 5.0, 8.0),
-            heights_m=(), dorsal_rim_ps=np.inf, title="", receptor_curves=PEITSCH_1992):
+            heights_m=(), dorsal_rim_ps=DORSAL_RIM_PS, title="", receptor_curves=PEITSCH_1992):
     """The sky compass of the dorsal rim over a full turn of the bee, in a scene, and as turbidity grows.
 
     The head turns about the vertical through ``headings`` evenly spaced

@@ -16,7 +16,7 @@ __all__, __getattr__ = exports(__name__, {
                     "hexagon_sector", "reflectance_catches", "rnl_distance", "spectral_locus", "triangle", "von_kries",
                     "widest_spectral_locus"),
     "human": ("srgb", "tristimulus"),
-    "polarisation": ("analyser_efficiency", "analyser_ps", "degree_and_angle", "head_frame_stokes",
+    "polarisation": ("DORSAL_RIM_PS", "analyser_efficiency", "analyser_ps", "degree_and_angle", "head_frame_stokes",
                      "receptor_catch"),
     "compass": ("STEP_DEG", "candidate_suns", "expected_responses", "pol_responses", "read_out", "wrap_deg"),
 })

@@ -18,11 +18,15 @@ Polarisation sensitivity by eye region (``PS``), as modelled by default:
   length (Collins §2.1; Wehner et al. 1975), "so that their polarization
   sensitivity is almost abolished" (Labhart 1980, in the words of Horváth et
   al. 2002); the short ninth cell, which keeps some, is not modelled.
-- the dorsal rim area's UV receptors: ideal analysers (PS = ∞), as in the
-  compass model of Gkanias et al. (2019). Labhart's (1980) measured PS of
-  these receptors, the number this should be, was not reachable; the
-  config's ``polarisation.dorsal_rim_ps`` takes it when known. The compass
-  read-out (:mod:`beeoptics.vision.compass`) does not depend on it.
+- the dorsal rim area's UV receptors: PS = 6.6 (:data:`DORSAL_RIM_PS`),
+  Labhart's (1980) intracellular measurement as quoted with that source in
+  public analysis code of skylight polarisation vision ("polarization
+  sensitivity as defined in Labhart, 1980 is 6.6 for honeybees"); the paper
+  itself was not readable here, so the figure is second-hand and should be
+  checked against its text. The config's ``polarisation.dorsal_rim_ps``
+  takes another value, or ``ideal`` analysers (PS = ∞), as in the compass
+  model of Gkanias et al. (2019). The compass read-out
+  (:mod:`beeoptics.vision.compass`) does not depend on it.
 
 Angles are those of :mod:`beeoptics.eye.dorsalrim`: about a receptor's
 axis, from the projection of the head's dorsal direction towards its
@@ -43,6 +47,9 @@ Gkanias E, Risse B, Mangan M, Webb B (2019) PLoS Comput Biol 15:e1007123.
 """
 
 import numpy as np
+
+#: The dorsal rim's UV receptors' polarisation sensitivity (Labhart 1980, as quoted: see above).
+DORSAL_RIM_PS = 6.6
 
 
 def analyser_ps(setting):
