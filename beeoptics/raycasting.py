@@ -4,8 +4,8 @@ The eye stage casts rays to project its first grid onto the cornea and to
 test directions against the lattice of receptor axes; the light stage casts
 every ray of its paths. All of them go through one Open3D
 ``RaycastingScene`` built here, and the time spent in its ray calls is
-counted (:func:`embree_seconds`), so that a benchmark can say what share of
-a trace Embree takes.
+counted, in wall and in CPU seconds (:func:`embree_seconds`), so that a
+benchmark can say what share of a trace Embree takes.
 """
 
 import threading
@@ -14,20 +14,22 @@ import time
 import numpy as np
 import open3d as o3d
 
-_embree = {"seconds": 0.0, "lock": threading.Lock()}
+_embree = {"seconds": 0.0, "cpu_seconds": 0.0, "lock": threading.Lock()}
 
 
 def embree_seconds():
-    """Seconds spent in Open3D's ray calls by all threads of the process so far."""
-    return _embree["seconds"]
+    """Wall seconds spent in Open3D's ray calls by all threads of the process so far, and the process's CPU
+    seconds (on all its cores) during them: Embree's own, when no other thread of the process is working."""
+    return _embree["seconds"], _embree["cpu_seconds"]
 
 
 def _timed(call, rays):
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     out = call(o3d.core.Tensor(rays))
-    spent = time.perf_counter() - start
+    spent, cpu_spent = time.perf_counter() - start, time.process_time() - cpu
     with _embree["lock"]:
         _embree["seconds"] += spent
+        _embree["cpu_seconds"] += cpu_spent
     return out
 
 

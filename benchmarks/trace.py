@@ -21,7 +21,11 @@ depth, threads, receptors, rays (every ray the trace cast: primary, bounce
 and shadow), wall_s (the wall time of the trace stage, traced and
 gathered), trace_s (the tracing alone, without loading the scene),
 embree_fraction (the time the threads spent in Open3D's ray calls, summed,
-over trace_s times the threads),
+over trace_s times the threads), embree_cpu_share (on one thread only: the
+share of the trace's CPU time, on all cores, spent in Open3D's ray calls,
+which run on every core while the shading between them runs on one; with
+more threads one thread shades during another's call and the two cannot be
+told apart, so it is null),
 pipeline_rays_per_s (rays / wall_s), bare_rays_per_s (bare ``cast_rays``
 throughput on the same scene), ratio (their quotient) and peak_memory_mb
 (the process's peak resident memory). The first run after an install also
@@ -103,13 +107,13 @@ def main():
         start = time.perf_counter()
         part = Path(tmp) / "radiance.npz"
         settings = TraceSettings(args.spp, args.depth, args.seed, args.batch_rays, args.threads)
-        embree = embree_seconds()
+        before = embree_seconds()
         counts = trace_part(receptors_csv, scene_file, {"radiance": part}, spectral=spectral, settings=settings)
         gather_responses(receptors_csv, scene_file, [part], {"responses": Path(tmp) / "responses.csv",
                                                              "irradiance": Path(tmp) / "irradiance.npz"},
                          spectral=spectral)
         wall = time.perf_counter() - start
-        embree = embree_seconds() - embree
+        embree, embree_cpu = np.subtract(embree_seconds(), before)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     rays = counts["cast"] + counts["shadow"]
 
@@ -126,6 +130,7 @@ def main():
         "receptors": len(origins), "rays": rays, "wall_s": round(wall, 2),
         "trace_s": round(counts["seconds"], 2),
         "embree_fraction": round(embree / (counts["seconds"] * args.threads), 3),
+        "embree_cpu_share": round(embree_cpu / counts["cpu_seconds"], 3) if args.threads == 1 else None,
         "pipeline_rays_per_s": round(pipeline), "bare_rays_per_s": round(bare),
         "ratio": round(pipeline / bare, 3), "peak_memory_mb": round(peak, 1),
     }))

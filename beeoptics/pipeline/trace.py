@@ -41,7 +41,7 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     several machines; every receptor draws the same random numbers in any
     share, so the gathered result is bit-identical to a single part's.
     Writes the share's receptor ids and spectral radiance (npz); returns the
-    ray counts ("cast", "shadow") and the tracing's seconds ("seconds").
+    ray counts ("cast", "shadow") and the tracing's wall and CPU seconds ("seconds", "cpu_seconds").
 
     Parameters
     ----------
@@ -67,7 +67,7 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
 
 def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None, polarised=False):
     """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
-    and the ray counts and seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built.
+    and the ray counts, wall and CPU seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built.
 
     ``polarised``: the spectral Stokes vectors instead, (last − first, 3, n_wavelengths), each in
     the frame of the head's dorsal direction about the receptor's samples
@@ -80,7 +80,7 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
     counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
              settings.depth, settings.threads)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
 
     def trace(blocks):
         dirs, weights = cone_samples(axes[blocks.bundle], drho[blocks.bundle], blocks.samples, settings.seed,
@@ -99,7 +99,7 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
     radiance = trace_bundles(trace, first, last, settings, stokes * n_wavelengths, progress)
     if polarised:
         radiance = radiance.reshape(-1, stokes, n_wavelengths)
-    counts["seconds"] = time.perf_counter() - start
+    counts["seconds"], counts["cpu_seconds"] = time.perf_counter() - start, time.process_time() - cpu
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], counts["seconds"])
     return radiance, counts
