@@ -19,7 +19,7 @@ Polarisation sensitivity by eye region (``PS``), as modelled by default:
   sensitivity is almost abolished" (Labhart 1980, in the words of Horváth et
   al. 2002); the short ninth cell, which keeps some, is not modelled.
 - the dorsal rim area's UV receptors: PS = 6.6 (:data:`DORSAL_RIM_PS`),
-  Labhart's (1980) intracellular measurement as quoted with that source in
+  Labhart's (1980) measurement as quoted with that source in
   public analysis code of skylight polarisation vision ("polarization
   sensitivity as defined in Labhart, 1980 is 6.6 for honeybees"); the paper
   itself was not readable here, so the figure is second-hand and should be
