@@ -125,7 +125,7 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo, polarisati
         shape = Sky(model, None, True, np.array([[a, b, 1.0, c, d, e, 0.0, 0.0, 0.0, 1.0]]), sun, PEREZ_COS_FLOOR)
         weights = np.ones((len(wl), 1))
         # One basis spectrum at every wavelength: its polarisation is air's at 555 nm, where
-        # Perez's luminance distribution is defined (the photopic peak).
+        # Perez's luminance distribution is defined (the peak of the photopic V(λ), CIE 1924).
         basis_nm = np.array([555.0])
     # Each basis spectrum's irradiance, then the wavelength-by-wavelength scale that
     # makes their blend integrate to the diffuse irradiance.

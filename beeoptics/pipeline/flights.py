@@ -121,7 +121,8 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
     az = np.degrees(np.arctan2(head_axes[:, 1], head_axes[:, 0]))
     el = np.degrees(np.arcsin(np.clip(head_axes[:, 2], -1.0, 1.0)))
     responses, flows, targets, frames = [], [], [], []
-    shares = [np.load(f) for f in frame_npzs]
+    # Each share read once, whole: an npz file would read an array again on every access.
+    shares = [dict(np.load(f)) for f in frame_npzs]
     humans = np.concatenate([np.load(f)["srgb"] for f in human_npzs])
     every = [(s, j) for s in shares for j in range(len(s["frame"]))]
     for k, ((share, j), human) in enumerate(zip(every, humans)):
