@@ -25,7 +25,7 @@ from beeoptics.headframe import SIDES
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, write_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
-from beeoptics.pipeline.outputs import COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES
+from beeoptics.pipeline.outputs import COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES, colour_figures, retinal_images
 
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
 GRID = [
@@ -38,9 +38,10 @@ SETTINGS = {
         ("--edge-fraction", "eye.edge_fraction", float,
          "remeshing edge length, as a fraction of the mean facet diameter of the eye's anchors"),
         ("--tolerance-um", "eye.tolerance_um", float, "relax the facets until none would move further than this, µm"),
-        ("--delta-rho-model", "eye.delta_rho.model", str, "acceptance angle Δρ: 'measured' (the eye's own "
-         "measurements, spread over it; --delta-rho-deg where it has none), 'fixed' (--delta-rho-deg everywhere) "
-         "or 'snyder' (from each facet's diameter and the eye's rhabdom width)"),
+        ("--delta-rho-model", "eye.delta_rho.model", str, "acceptance angle Δρ: 'species' (the eye's own, its "
+         "eye.yaml's optics.delta_rho: measured values, Snyder's model or a published multiple of Δφ; "
+         "--delta-rho-deg where it names none), 'fixed' (--delta-rho-deg everywhere) or 'snyder' (from each "
+         "facet's diameter and the eye's rhabdom width)"),
         ("--delta-rho-deg", "eye.delta_rho.fixed_deg", float,
          "Δρ of the fixed model, and of the measured one for eyes without measurements, degrees (full width "
          "at half maximum)"),
@@ -56,9 +57,9 @@ SETTINGS = {
         *GRID,
         ("--background", "colour.background", str, "von Kries adapting background: 'scene' (the mean catch of all "
          "receptors) or a material of the scene (a Lambertian surface under its sky and sun)"),
-        ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'peitsch1992' (measured, Peitsch et "
-         "al. 1992, the default), 'govardovskii' (A1 template at 344/436/544 nm) or a CSV in pavo's layout of "
-         "measured curves UV, B, G"),
+        ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'species' (the receptor set's own: "
+         "measured where measured, for the honey bee Peitsch et al. 1992), 'template' (the A1 template at the set's "
+         "λmax) or a CSV in pavo's layout with a column per receptor class of the set (UV, B, G for a bee)"),
         ("--width-px", "images.width_px", int, "width of each eye's panel in the retinal images, pixels"),
         ("--field-width-px", "images.visual_field_width_px", int,
          "width of the visual-field map (with --figures), pixels; its height is half of it"),
@@ -186,17 +187,22 @@ def render(args):
     from beeoptics.light.batching import TraceSettings
     from beeoptics.pipeline import images
     from beeoptics.pipeline.trace import gather_responses, trace_part
+    from beeoptics.vision.receptorset import DEFAULT_SET, load_receptor_set, receptor_set_of
 
     config = settings(args)
     spectral, background = config["spectral"], config["colour"]["background"]
     # Refused now rather than after a trace of minutes.
     if args.eye is not None:
         load_eye(args.eye)
+    receptor_set = (receptor_set_of(args.eye) if args.eye is not None and args.receptors_set is None else
+                    load_receptor_set(args.receptors_set or DEFAULT_SET, source="command line",
+                                      field="--receptor-set"))
     check_background(args.scene, background, args.scene, "materials")
-    figures = {**FIELD_MAPS, **COLOUR_FIGURES} if args.figures else {}
+    retinal = retinal_images(receptor_set) if args.eye is not None else {}
+    spaces = colour_figures(receptor_set) if args.figures else {}
+    figures = {**FIELD_MAPS, **spaces} if args.figures else {}
     title = f"{Path(args.receptors).stem} in {Path(args.scene).parent.name}"
-    names = ["responses.csv", "irradiance.npz", *(IMAGES.values() if args.eye is not None else ()),
-             *figures.values()]
+    names = ["responses.csv", "irradiance.npz", *retinal.values(), *figures.values()]
     with staged(args.output, names) as tmp:
         with _bar(args, "tracing", " receptors") as bar:
             def progress(done, total):
@@ -204,20 +210,21 @@ def render(args):
                 bar.update(done - bar.n)
             trace_part(args.receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
                        settings=TraceSettings.from_config(config["trace"], args.threads), progress=progress)
+        curves = config["colour"]["sensitivities"]
         gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"],
                          {"responses": tmp / "responses.csv", "irradiance": tmp / "irradiance.npz"},
-                         spectral=spectral, background=background, receptor_curves=config["colour"]["sensitivities"])
+                         spectral=spectral, receptor_set=receptor_set, background=background, receptor_curves=curves)
         if args.eye is not None:
             images.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
-                                  {key: tmp / name for key, name in IMAGES.items()},
+                                  {key: tmp / name for key, name in retinal.items()}, receptor_set=receptor_set,
                                   width_px=config["images"]["width_px"], title=title)
         if args.figures:
             images.visual_field_maps(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz", None,
-                                     {key: tmp / name for key, name in FIELD_MAPS.items()},
+                                     {key: tmp / name for key, name in FIELD_MAPS.items()}, receptor_set=receptor_set,
                                      width_px=config["images"]["visual_field_width_px"])
             images.colour_figures(tmp / "responses.csv", tmp / "irradiance.npz",
-                                  {key: tmp / name for key, name in COLOUR_FIGURES.items()},
-                                  title=title, receptor_curves=config["colour"]["sensitivities"])
+                                  {key: tmp / name for key, name in spaces.items()}, receptor_set=receptor_set,
+                                  title=title, receptor_curves=curves)
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
@@ -479,12 +486,16 @@ def parser():
     p.add_argument("receptors", metavar="RECEPTORS_CSV", help="receptor table, as build-eye writes it")
     p.add_argument("scene", metavar="SCENE_YAML", help="scene description, e.g. scenes/meadow/scene.yaml")
     p.add_argument("--eye", metavar="EYE_YAML", help="the receptors' eye, for the retinal-plane images "
-                   "(without it, only responses.csv and irradiance.npz are written)")
+                   "(without it, only responses.csv and irradiance.npz are written) and its receptor set")
+    p.add_argument("--receptor-set", dest="receptors_set", metavar="SET", help="the receptor classes to catch "
+                   "light with: a set the package ships (apis_mellifera, bombus_terrestris, drosophila_melanogaster) "
+                   "or a set file (default: the --eye's own, else apis_mellifera)")
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path, help="folder for responses.csv, "
-                   "irradiance.npz and the images " + ", ".join(IMAGES.values()))
+                   "irradiance.npz and the images " + ", ".join(IMAGES.values()) + " and one channel image per "
+                   "receptor class (channel_uv.png, ... for a bee)")
     p.add_argument("--figures", action="store_true", help="also write the visual field of both eyes ("
-                   + ", ".join(FIELD_MAPS.values()) + ") and the colour-space figures ("
-                   + ", ".join(COLOUR_FIGURES.values()) + ")")
+                   + ", ".join(FIELD_MAPS.values()) + ") and the colour-space figures the receptor set has ("
+                   + ", ".join(COLOUR_FIGURES.values()) + " for a bee)")
     p.add_argument("--threads", type=_count, default=os.cpu_count(),
                    help="batches traced at once; the result is the same for any number (default: %(default)s, "
                    "the machine's cores)")

@@ -17,7 +17,6 @@ Maia R, Gruson H, Endler JA, White TE (2019) pavo 2: new tools for the
 spectral and spatial analysis of colour in R. Methods Ecol Evol 10:1097–1107.
 """
 
-import colour
 import numpy as np
 
 from beeoptics.io.errors import InputError
@@ -58,6 +57,9 @@ def resample(wavelengths, values, onto, source="spectrum", field=""):
         If the data stop short of either end of the grid by more than
         :data:`EDGE_TOLERANCE_NM`, or hold NaN.
     """
+    # colour-science takes a second or two to import: only stages that resample spectra pay for it.
+    import colour
+
     wl = np.asarray(wavelengths, float)
     v = np.asarray(values, float)
     if wl[0] - onto[0] > EDGE_TOLERANCE_NM or onto[-1] - wl[-1] > EDGE_TOLERANCE_NM:

@@ -23,7 +23,7 @@ from beeoptics.light.materials import ground_albedo
 from beeoptics.light.sky import _hemisphere, clear_sky_dome, horizontal_irradiance
 from beeoptics.light.sun import sun_disc
 from beeoptics.spectra import grid
-from beeoptics.vision.sensitivity import sensitivities
+from beeoptics.vision.receptorset import curves, load_receptor_set
 
 TURBIDITY = 3.0
 
@@ -38,7 +38,7 @@ def scene_light(wl, elevation, albedo):
 def main():
     wl = grid()
     albedo = ground_albedo("grass", wl, "benchmark", "grass")
-    s = sensitivities(wl)
+    s = curves(load_receptor_set("apis_mellifera"), wl)
     print(f"turbidity {TURBIDITY:g}, ground: grass (Feister & Grewe 1995); percentiles 10, 50, 90")
     print("sun  | Granada (300 nm) n  UV/VIS ours  measured            UV/G ours  measured"
           "            | Spitschan (360 nm) n  UV/VIS ours  measured            UV/G ours  measured")

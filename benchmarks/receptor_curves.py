@@ -4,7 +4,8 @@
 
 Gathers the responses of a traced eye and scene (the workflow's
 ``results/{eye}/{scene}/parts``) twice, with the Govardovskii template and
-with the measured curves of Peitsch et al. (1992), and prints, over the
+with the eye's species' own curves (for the honey bee, the measured curves of
+Peitsch et al. 1992), and prints, over the
 receptors that caught light, the ratio of raw and von Kries catches and the
 shift of each receptor in the colour hexagon (vertex at 1) and of its hue.
 """
@@ -18,18 +19,18 @@ import numpy as np
 from beeoptics.io.table import read_table
 from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
 from beeoptics.pipeline.trace import gather_responses
-from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, TEMPLATE
+from beeoptics.vision.receptorset import SPECIES, TEMPLATE, receptor_set_of
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def responses(eye, scene, curves, config):
+def responses(eye, scene, curves, config, receptor_set):
     with tempfile.TemporaryDirectory() as tmp:
         out = {"responses": Path(tmp) / "responses.csv", "irradiance": Path(tmp) / "irradiance.npz"}
         gather_responses(ROOT / "results" / "eyes" / eye / "receptors.csv", ROOT / "scenes" / scene / "scene.yaml",
                          sorted((ROOT / "results" / eye / scene / "parts").glob("*.npz")), out,
-                         spectral=config["spectral"], background=config["colour"]["background"],
-                         receptor_curves=curves)
+                         spectral=config["spectral"], receptor_set=receptor_set,
+                         background=config["colour"]["background"], receptor_curves=curves)
         return read_table(out["responses"])
 
 
@@ -43,10 +44,11 @@ def main():
     parser.add_argument("--scene", default="meadow")
     args = parser.parse_args()
     config = validate_config({}, CONFIG_SCHEMA, folders=False)
-    template, measured = (responses(args.eye, args.scene, c, config) for c in (TEMPLATE, PEITSCH_1992))
+    receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")
+    template, measured = (responses(args.eye, args.scene, c, config, receptor_set) for c in (TEMPLATE, SPECIES))
     lit = (template["lit"] == 1) & (measured["lit"] == 1)
     print(f"{args.eye} in {args.scene}: {lit.sum()} receptors that caught light")
-    for r in RECEPTORS:
+    for r in receptor_set.classes:
         print(f"  catch {r}, measured / template: {spread(measured[r][lit] / template[r][lit])}")
         print(f"  von Kries q_{r}, measured / template: {spread(measured['q_' + r][lit] / template['q_' + r][lit])}")
     shift = np.hypot(*(measured[k][lit] - template[k][lit] for k in ("hex_x", "hex_y")))

@@ -54,6 +54,7 @@ from beeoptics.pipeline.trace import gather_responses, trace_part
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.raycasting import embree_seconds
 from beeoptics.spectra import grid
+from beeoptics.vision.receptorset import receptor_set_of
 
 ROOT = Path(__file__).resolve().parents[1]
 BARE_BATCH_RAYS = 1 << 20
@@ -111,7 +112,7 @@ def main():
         counts = trace_part(receptors_csv, scene_file, {"radiance": part}, spectral=spectral, settings=settings)
         gather_responses(receptors_csv, scene_file, [part], {"responses": Path(tmp) / "responses.csv",
                                                              "irradiance": Path(tmp) / "irradiance.npz"},
-                         spectral=spectral)
+                         spectral=spectral, receptor_set=receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml"))
         wall = time.perf_counter() - start
         embree, embree_cpu = np.subtract(embree_seconds(), before)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

@@ -236,7 +236,8 @@ def test_an_eye_mesh_in_the_wrong_units_is_refused(tmp_path, cap, scale, units):
 
 def test_the_same_eye_mesh_in_millimetres_is_accepted(tmp_path, cap):
     v, f = cap
-    eye_file = eye_dir(tmp_path, mesh="eye.obj")
+    # As many facets as the cap's 6.8 mm² holds at the tiny eye's 40–46 µm.
+    eye_file = eye_dir(tmp_path, edit=lambda e: e["facets"].update(count=4000), mesh="eye.obj")
     write_obj(eye_file.parent / "eye.obj", v, f)
     vertices, _ = eyefile.load_eye_mesh(eyefile.load_eye(eye_file))
     assert np.ptp(vertices, axis=0).max() == pytest.approx(2.6, rel=0.01)
@@ -363,20 +364,21 @@ def _curves(**edits):
         (_curves(G=lambda wl: [-0.1] + [0.5] * (len(wl) - 1)), WL, "G", "negative"),
         (_curves(B=flat(0.0)), WL, "B", "zero everywhere"),
         (lambda wl: dict(reversed(list(bee_curves(wl).items()))), WL, "B", "UV, B, G"),
-        (lambda wl: {k: v for k, v in bee_curves(wl).items() if k != "G"}, WL, "UV, B", "three"),
+        (lambda wl: {k: v for k, v in bee_curves(wl).items() if k != "G"}, WL, "UV, B", "expected 3"),
     ],
     ids=["short", "nan", "negative", "zero_column", "wrong_order", "two_columns"],
 )
 def test_bad_measured_sensitivities_are_refused_naming_the_column(tmp_path, grid, curves, wl, field, words):
     path = pavo(tmp_path / "sensitivity.csv", curves(np.asarray(wl)), wl)
     with pytest.raises(InputError) as e:
-        measured_sensitivities(path, grid)
+        measured_sensitivities(path, grid, ("UV", "B", "G"), (344.0, 436.0, 544.0))
     assert words in assert_names(e, path, field)
 
 
 def test_good_measured_sensitivities_are_accepted(tmp_path, grid):
     path = pavo(tmp_path / "sensitivity.csv", bee_curves(WL))
-    assert measured_sensitivities(path, grid).sum(0) == pytest.approx([1.0, 1.0, 1.0])
+    assert measured_sensitivities(path, grid, ("UV", "B", "G"), (344.0, 436.0, 544.0)).sum(0) == \
+        pytest.approx([1.0, 1.0, 1.0])
 
 
 # --- unknown material, unknown eye class ---------------------------------------------------------
@@ -808,3 +810,40 @@ def test_a_scene_mesh_with_an_index_past_its_vertices_stops_the_trace_in_one_lin
     assert result.returncode == 1  # an exception, not a signal
     assert result.stderr.strip().splitlines()[-1].endswith("daisy.obj: face 1: refers to vertex 300, but the mesh "
                                                            "has 104 vertices")
+
+
+# --- an eye whose facet count its cornea cannot hold, an eye inside the scene's surfaces ---------
+
+
+@pytest.mark.parametrize("count", [3, 50_000_000])
+def test_a_facet_count_the_cornea_cannot_hold_gets_one_line_at_once(tmp_path, count):
+    # The tiny eye's 0.46 mm² cornea holds 251–334 facets of its 40–46 µm.
+    eye_file = eye_dir(tmp_path, edit=lambda e: e["facets"].update(count=count))
+    result = subprocess.run([sys.executable, "-m", "beeoptics.cli", "build-eye", str(eye_file), "-o",
+                             str(tmp_path / "out"), "--quiet"], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1, result.stderr
+    assert "eye.yaml: facets.count:" in result.stderr and "251–334" in result.stderr, result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("height_m, warned", [(0.1, False), (-0.1, True)])
+def test_an_eye_below_the_ground_still_renders_but_is_warned_of(tmp_path, caplog, height_m, warned):
+    from beeoptics.light.batching import TraceSettings
+    from beeoptics.pipeline.trace import trace_receptors
+    from beeoptics.spectra import grid as spectral_grid
+    from conftest import build_eye_files
+
+    table = read_receptors(build_eye_files(DATA / "eyes" / "tiny" / "eye.yaml", tmp_path / "eye")["receptors"])
+    scene = open_scene()
+    scene["eye"]["position_m"] = [0.0, 0.0, height_m]
+    wl = spectral_grid(300.0, 700.0, 20.0)
+    loaded = load_scene(write_scene(tmp_path / "scene" / "scene.yaml", scene), wl)
+    with caplog.at_level("WARNING", logger="beeoptics"):
+        radiance, _ = trace_receptors(loaded, table, 0, len(table.id), TraceSettings(4, 1, 1, 4096), len(wl))
+    assert np.isfinite(radiance).all()
+    said = [r.getMessage() for r in caplog.records if "back face" in r.getMessage()]
+    assert bool(said) == warned, said
+    if warned:
+        # Below a plane, every receptor that meets it meets its underside.
+        assert said[0].startswith("100% of the receptors whose axis meets a surface meet its back face")

@@ -10,9 +10,12 @@ from beeoptics.vision.colourspace import (COC_WEIGHTS, HEXAGON_VERTICES, TRIANGL
                                           colour_coordinates, excitation, hexagon, hexagon_polar, hexagon_sector, neural_noise,
                                    reflectance_catches, rnl_distance, spectral_locus, triangle, von_kries,
                                    widest_spectral_locus)
+from beeoptics.vision.receptorset import load_receptor_set
 from beeoptics.vision.sensitivity import measured_sensitivities, receptor_sensitivities
 from beeoptics.spectra import read_pavo_csv
 from beeoptics.io.table import read_table
+
+APIS = load_receptor_set("apis_mellifera")
 
 R3 = np.sqrt(3.0)
 
@@ -81,7 +84,7 @@ def test_achromatic_stimuli_fall_at_the_centre(level):
 
 
 def test_the_background_sits_at_the_centre_after_adaptation(wavelengths, rng):
-    s = receptor_sensitivities(wavelengths)
+    s = receptor_sensitivities(wavelengths, APIS.lambda_max_nm)
     background = rng.uniform(0.05, 0.6, len(wavelengths))
     light = rng.uniform(0.5, 2.0, len(wavelengths))
     qb = reflectance_catches(background, light, s, wavelengths)
@@ -174,7 +177,7 @@ def test_neural_noise_follows_pavos_density_rule():
 
 
 def test_reflectance_catches_shape_and_grid_step(wavelengths, rng):
-    s = receptor_sensitivities(wavelengths)
+    s = receptor_sensitivities(wavelengths, APIS.lambda_max_nm)
     r = rng.uniform(0, 1, (len(wavelengths), 4))
     light = rng.uniform(0.5, 1.0, len(wavelengths))
     q = reflectance_catches(r, light, s, wavelengths)
@@ -184,7 +187,7 @@ def test_reflectance_catches_shape_and_grid_step(wavelengths, rng):
 
 
 def test_spectral_locus_is_the_catch_of_a_spike(wavelengths):
-    s = receptor_sensitivities(wavelengths)
+    s = receptor_sensitivities(wavelengths, APIS.lambda_max_nm)
     background = np.full(len(wavelengths), 0.2)
     light = np.ones(len(wavelengths))
     qb = reflectance_catches(background, light, s, wavelengths)
@@ -200,7 +203,7 @@ def test_spectral_locus_is_the_catch_of_a_spike(wavelengths):
 
 
 def test_spectral_locus_stays_inside_and_runs_uv_to_green(wavelengths):
-    s = receptor_sensitivities(wavelengths)
+    s = receptor_sensitivities(wavelengths, APIS.lambda_max_nm)
     locus = spectral_locus(s, wavelengths, np.ones(3), flux=1.0)
     bary = np.linalg.solve(np.vstack([TRIANGLE_VERTICES.T, np.ones(3)]),
                            np.vstack([locus.triangle.T, np.ones(len(wavelengths))]))
@@ -212,7 +215,7 @@ def test_spectral_locus_stays_inside_and_runs_uv_to_green(wavelengths):
 
 
 def test_the_widest_locus_puts_each_light_as_far_out_as_any_searched_intensity(wavelengths):
-    s = receptor_sensitivities(wavelengths)
+    s = receptor_sensitivities(wavelengths, APIS.lambda_max_nm)
     qb = reflectance_catches(np.full(len(wavelengths), 0.2), np.ones(len(wavelengths)), s, wavelengths)
     widest, intensity = widest_spectral_locus(s, wavelengths, qb, 3.0)
     radius = np.hypot(*widest.hexagon.T)
@@ -244,7 +247,7 @@ def test_pipeline_reproduces_pavos_formula_chain_on_pavos_data(shared_data, illu
     # Ours, through the package's readers.
     _, wl, flowers = read_pavo_csv(shared_data / "flowers_pavo.csv")
     assert flowers.shape == (401, 36)
-    s_apis = measured_sensitivities(shared_data / "apis_sensitivity_peitsch1992.csv", wl)
+    s_apis = measured_sensitivities(shared_data / "apis_sensitivity_peitsch1992.csv", wl, APIS.classes)
     qb = reflectance_catches(bkg, illum, s_apis, wl)
     e = excitation(von_kries(reflectance_catches(flowers, illum, s_apis, wl), qb))
     xy = hexagon(e)
@@ -268,7 +271,7 @@ def test_triangle_reproduces_pavos_trispace_on_pavos_data(shared_data):
     expected = np.column_stack([(l - m) / np.sqrt(2), np.sqrt(2 / 3) * (s - (l + m) / 2)])
 
     _, wl, flowers = read_pavo_csv(shared_data / "flowers_pavo.csv")
-    s_apis = measured_sensitivities(shared_data / "apis_sensitivity_peitsch1992.csv", wl)
+    s_apis = measured_sensitivities(shared_data / "apis_sensitivity_peitsch1992.csv", wl, APIS.classes)
     ours = triangle(reflectance_catches(flowers, np.ones(len(wl)), s_apis, wl))
     np.testing.assert_allclose(ours, expected, atol=1e-6)
 
@@ -277,12 +280,12 @@ def test_a_receptor_that_caught_no_light_has_no_colour_and_no_warning():
     q = np.array([[0.0, 0.0, 0.0], [2.0, 1.0, 0.5]])
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        columns = colour_coordinates(q, np.ones(3))
+        columns = colour_coordinates(q, np.ones(3), APIS)
     assert list(columns["lit"]) == [0, 1]
     for name, values in columns.items():
         if name != "lit":
             assert np.isnan(values[0]) and np.isfinite(values[1]), name
     # A lit receptor's coordinates do not depend on a dark one beside it.
-    alone = colour_coordinates(q[1:], np.ones(3))
+    alone = colour_coordinates(q[1:], np.ones(3), APIS)
     for k in columns:
         np.testing.assert_allclose(alone[k][0], columns[k][1], rtol=1e-12, err_msg=k)

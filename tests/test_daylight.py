@@ -9,7 +9,7 @@ from beeoptics.light.daylight import clear_sky
 from beeoptics.light.materials import ground_albedo
 from beeoptics.light.sky import clear_sky_dome, horizontal_irradiance
 from beeoptics.light.sun import sun_disc
-from beeoptics.vision.sensitivity import sensitivities
+from beeoptics.vision.receptorset import curves, load_receptor_set
 
 # The scene light's UV/VIS photon ratio and UV/G catch ratio (Peitsch et al. 1992) at
 # turbidity 3 over grass, from 300 nm (as Granada's records) and from 360 nm (as
@@ -32,7 +32,8 @@ def ranges(wavelengths):
         sun = sun_disc(daylight, 0.0)
         sky = clear_sky_dome("hosek_wilkie", daylight, sun.direction, 3.0, grass)
         light = horizontal_irradiance(sky, sun, len(wavelengths))
-        out[elevation] = measured_ranges(wavelengths, light, elevation, sensitivities(wavelengths))
+        apis = curves(load_receptor_set("apis_mellifera"), wavelengths)
+        out[elevation] = measured_ranges(wavelengths, light, elevation, apis)
     return out
 
 

@@ -11,7 +11,7 @@ from beeoptics.eye.axismodel import field_axes
 from beeoptics.eye.dorsalrim import dorsal_rim, microvillar_angle
 from beeoptics.eye.lattice import hex_grid
 from beeoptics.eye.shape import HEXAGON_AREA, cornea, field_outline
-from beeoptics.headframe import RIGHT, eye_azimuth_elevation, eye_rotation
+from beeoptics.headframe import RIGHT, eye_azimuth_elevation, eye_direction, eye_rotation
 
 
 def test_interommatidial_angles_take_stuerzls_values():
@@ -40,10 +40,50 @@ def test_the_model_holds_its_rows_of_ommatidia():
     assert fieldmodel.ommatidia_count() == pytest.approx(5432, rel=0.1)
     # A row at the equator: 171° of azimuth in steps of 2.4–4.6°.
     assert 40 < fieldmodel.row_count(0.0) < 60
+    # From pole to pole: the band the border draws, and the caps beyond where its ends close round.
     a, e = fieldmodel.direction_of_shares([0.0, 1.0, 0.5, 0.5], [0.5, 0.5, 0.0, 1.0])
-    assert e[0] == pytest.approx(-74.5) and e[1] == pytest.approx(69.0)
+    assert e[0] == pytest.approx(-90.0) and e[1] == pytest.approx(90.0)
     (low, high), medial, lateral = fieldmodel.border()
     assert a[2] == pytest.approx(medial(e[2]), abs=0.01) and a[3] == pytest.approx(lateral(e[3]), abs=0.01)
+    # Above 69° and below -74.5° every azimuth is seen; within the band, the border's.
+    assert fieldmodel.inside([-170.0, 0.0, 100.0], [80.0, -85.0, 75.0]).all()
+    assert not fieldmodel.inside([-170.0, 0.0], [80.0, -85.0], caps=False).any()
+    assert not fieldmodel.inside(-60.0, 0.0)
+
+
+def seidl_array():
+    """Stürzl et al.'s recipe for Seidl's array: rows Δφ_v/2 apart, ommatidia Δφ_h apart in a row, every other
+    row shifted by half a step, between the border's limits (the band only); the right eye's axes."""
+    (low, high), medial, lateral = fieldmodel.border()
+    rows, elevation, shifted = [], low, False
+    while elevation <= high:
+        azimuth = float(medial(elevation))
+        if shifted:
+            azimuth += 0.5 * float(fieldmodel.azimuth_step(azimuth, elevation))
+        while azimuth <= float(lateral(elevation)):
+            rows.append((azimuth, elevation))
+            azimuth += float(fieldmodel.azimuth_step(azimuth, elevation))
+        elevation += 0.5 * float(fieldmodel.delta_phi_vertical(elevation))
+        shifted = not shifted
+    azimuth, elevation = np.array(rows).T
+    return eye_direction(azimuth, elevation, RIGHT), azimuth, elevation
+
+
+def test_seidls_ommatidia_stand_in_columns_in_the_visual_field():
+    from beeoptics.eye.quality import vertical_neighbour_share
+
+    # A hexagonal array of 2° about the equator, laid in horizontal rows: its neighbours stand at 30° and
+    # 90° from the vertical, none within 15°; the same array in vertical columns has two of six straight up and down.
+    grid = hex_grid(2.0, (30.0, -15.0), (130.0, 15.0))
+    for columns, expected in ((False, 0.0), (True, 1.0 / 3.0)):
+        azimuth, elevation = (grid[:, 1] + 80.0, grid[:, 0] - 80.0) if columns else grid.T
+        axes = eye_direction(azimuth, elevation, RIGHT)
+        inner = (np.abs(elevation) <= 10.0) & (azimuth >= 40.0) & (azimuth <= 120.0)
+        assert vertical_neighbour_share(axes, axes)[inner].mean() == pytest.approx(expected, abs=0.02)
+    # Stürzl et al.'s array of Seidl's ommatidia stands in columns, less its rows' wobble.
+    axes, azimuth, elevation = seidl_array()
+    middle = (np.abs(elevation) <= 20.0) & (azimuth >= 20.0) & (azimuth <= 140.0)
+    assert 0.2 <= vertical_neighbour_share(axes, axes)[middle].mean() <= 1.0 / 3.0
 
 
 def lattice_on_the_outline(count=None, diameter=0.02):
@@ -106,7 +146,8 @@ def test_the_dorsal_rim_area_is_the_strip_along_the_top():
     axes = field_axes(rotation, points, np.ones(len(points)), points, pitch) @ rotation
     member, angle = dorsal_rim(points, axes, rim, rotation, 40)
     assert member.sum() == 40 and np.isnan(angle[~member]).all()
-    # Along the top: within the top tenth of the eye's height, half of them in its top row.
+    # Along the top: within the top tenth of the eye's height (which narrows to the cap), looking skyward.
     top = points[:, 1].max()
     assert points[member, 1].min() >= top - 0.1 * np.ptp(outline[:, 1])
-    assert np.mean(points[member, 1] == top) >= 0.5
+    _, elevation = eye_azimuth_elevation(axes, RIGHT)
+    assert np.median(elevation[member]) > np.percentile(elevation, 95)

@@ -108,6 +108,35 @@ def test_a_mutated_scene_or_its_mesh(tmp_path, data):
         assert "\n" not in str(e) and any(n in str(e) for n in ("scene.yaml", "daisy.obj", "daisy.mtl")), str(e)
 
 
+@pytest.fixture(scope="module")
+def ply_flower(tmp_path_factory):
+    """The flower scene with its daisy as a binary PLY with face colours, as MeshLab (pymeshlab) writes it."""
+    from beeoptics.io.meshfile import read_mesh
+    from test_scene import write_meshlab_ply
+
+    folder = tmp_path_factory.mktemp("ply_flower")
+    shutil.copytree(DATA / "scenes" / "flower", folder / "flower")
+    v, f, colours, _ = read_mesh(folder / "flower" / "daisy.obj", patterns=True)
+    write_meshlab_ply(folder / "flower" / "daisy.ply", v, f, face_colours=colours)
+    scene = yaml.safe_load((folder / "flower" / "scene.yaml").read_text())
+    scene["objects"][1]["mesh"] = "daisy.ply"
+    (folder / "flower" / "scene.yaml").write_text(yaml.safe_dump(scene))
+    return folder / "flower"
+
+
+@FUZZ
+@given(data=st.data())
+def test_a_mutated_binary_ply_with_face_colours(tmp_path, ply_flower, data):
+    scene = copy_of(tmp_path, ply_flower)
+    # Bytes as latin-1 text, so that the mutations reach the header and the binary records alike.
+    text = (scene / "daisy.ply").read_bytes().decode("latin-1")
+    (scene / "daisy.ply").write_bytes(data.draw(mutated(text)).encode("latin-1", errors="replace"))
+    try:
+        load_scene(scene / "scene.yaml", WL)
+    except InputError as e:
+        assert "\n" not in str(e) and any(n in str(e) for n in ("scene.yaml", "daisy.ply")), str(e)
+
+
 @FUZZ
 @given(data=st.data())
 def test_a_mutated_spectrum_csv(tmp_path, data):

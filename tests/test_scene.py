@@ -112,6 +112,51 @@ def test_a_gltf_whose_face_corners_differ_in_colour_cannot_take_a_palette(tmp_pa
         load_scene(spec, wavelengths)
 
 
+def write_meshlab_ply(path, vertices, faces, face_colours=None, vertex_colours=None, binary=True):
+    """A PLY file as MeshLab (pymeshlab) writes it: colours per face (``save_face_color``) or per vertex."""
+    import pymeshlab
+
+    def rgba(c):
+        return None if c is None else np.column_stack([np.asarray(c, float), np.ones(len(c))])
+
+    kwargs = {k: v for k, v in (("f_color_matrix", rgba(face_colours)), ("v_color_matrix", rgba(vertex_colours)))
+              if v is not None}
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(np.asarray(vertices, float), np.asarray(faces), **kwargs))
+    ms.save_current_mesh(str(path), binary=binary, save_face_color=face_colours is not None,
+                         save_vertex_color=vertex_colours is not None)
+    return path
+
+
+@pytest.mark.parametrize("binary", [True, False], ids=["binary", "ascii"])
+def test_a_ply_with_face_colours_as_meshlab_writes_it_gets_its_materials_through_the_palette(tmp_path, wavelengths,
+                                                                                            binary):
+    v, f, colours, _ = read_mesh(FLOWER / "daisy.obj", patterns=True)
+    write_meshlab_ply(tmp_path / "daisy.ply", v, f, face_colours=colours, binary=binary)
+    assert b"element face" in (tmp_path / "daisy.ply").read_bytes()[:400]
+    scene = yaml.safe_load((FLOWER / "scene.yaml").read_text())
+    scene["objects"][1]["mesh"] = "daisy.ply"
+    spec = write_scene(tmp_path / "scene.yaml", scene)
+    want = faces_and_materials(load_scene(FLOWER / "scene.yaml", wavelengths), "flower")
+    got = faces_and_materials(load_scene(spec, wavelengths), "flower")
+    assert len(np.unique(want[:, 3])) == 2
+    np.testing.assert_allclose(got, want, atol=1e-6)
+
+
+def test_a_ply_with_vertex_colours_gives_a_face_the_colour_its_corners_share(tmp_path):
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [2, 0, 0]], float)
+    corners = [[1, 0, 0], [1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0]]
+    write_meshlab_ply(tmp_path / "two.ply", v, [[0, 1, 2], [1, 3, 2]], vertex_colours=corners)
+    _, _, colours, _ = read_mesh(tmp_path / "two.ply", patterns=True)
+    assert colours is None  # the second face's corners differ: no colour for it
+    write_meshlab_ply(tmp_path / "one.ply", v, [[0, 1, 2], [1, 4, 3]], vertex_colours=corners)
+    _, _, colours, _ = read_mesh(tmp_path / "one.ply", patterns=True)
+    assert colours is None
+    write_meshlab_ply(tmp_path / "ok.ply", v, [[0, 1, 2], [3, 4, 1]][:1], vertex_colours=corners)
+    _, _, colours, _ = read_mesh(tmp_path / "ok.ply", patterns=True)
+    np.testing.assert_array_equal(colours, [[1, 0, 0]])
+
+
 @pytest.mark.parametrize("suffix", [".gltf", ".glb"])
 def test_a_textured_gltf_gives_each_texel_its_material(tmp_path, wavelengths, suffix):
     # A 1 m square, u along x and v along y, under a 2 × 2 checkerboard texture:

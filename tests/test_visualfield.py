@@ -8,6 +8,7 @@ from beeoptics.images.fieldmaps import paint
 from beeoptics.io.receptortable import ReceptorTable, write_receptors
 from beeoptics.io.table import read_table
 from beeoptics.pipeline.eyes import acuity_table
+from conftest import ROOT
 
 RIGHT, LEFT = EYE_BITS["right"], EYE_BITS["left"]
 
@@ -94,7 +95,9 @@ def test_acuity_table_gives_nyquist_and_rayleigh_limits(tmp_path):
                           axis=axes, facet_diameter_um=np.full(2 * n, 20.0), delta_phi_deg=np.full(2 * n, 2.0),
                           delta_rho_deg=np.full(2 * n, 2.6))
     write_receptors(tmp_path / "receptors.csv", table)
-    acuity_table({"test": tmp_path / "receptors.csv"}, {"acuity": tmp_path / "acuity.csv"}, width_px=90)
+    # A honey bee's eye (the tiny test eye names no receptor set: the honey bee's, λmax 544 nm for G).
+    acuity_table({"test": (ROOT / "tests" / "data" / "eyes" / "tiny" / "eye.yaml", tmp_path / "receptors.csv")},
+                 {"acuity": tmp_path / "acuity.csv"}, width_px=90)
     row = read_table(tmp_path / "acuity.csv", numeric=["f_max_cpd_median", "rayleigh_deg_G_median_facet",
                                                         "delta_rho_deg_p50", "receptors"], text=["eye"])
     assert list(row["eye"]) == ["test"] and row["receptors"][0] == 2 * n

@@ -61,7 +61,7 @@ def test_every_artifact_is_written(workdir):
                  "figures/relaxation.png", "figures/delta_phi.png", "figures/facet_diameter.png",
                  "figures/acceptance.png", "figures/field_of_view.png"):
         assert (eye / name).stat().st_size > 0
-    for name in ("eyes/acuity.csv", "figures/sensitivities.png"):
+    for name in ("eyes/acuity.csv", "figures/sensitivities/apis_mellifera.png"):
         assert (workdir / "results" / name).stat().st_size > 0
     for scene in ("open", "flower"):
         for name in ("responses.csv", "irradiance.npz", "voronoi_map3.png", "voronoi_map2.png",
@@ -224,19 +224,21 @@ def test_a_sweep_traces_every_combination_and_tables_them(workdir):
 
 def test_receptor_curves_from_a_csv_replace_the_default(workdir, tmp_path):
     from beeoptics.spectra import grid, write_pavo_csv
-    from beeoptics.vision.sensitivity import PEITSCH_1992_FILE, TEMPLATE, receptor_sensitivities
+    from beeoptics.vision.receptorset import TEMPLATE, load_receptor_set
+    from beeoptics.vision.sensitivity import receptor_sensitivities
 
+    apis = load_receptor_set("apis_mellifera")
     flower = workdir / "results" / "tiny" / "flower"
     args = (workdir / "results" / "eyes" / "tiny" / "receptors.csv", workdir / "scenes" / "flower" / "scene.yaml",
             [flower / "parts" / "radiance_0_of_1.npz"])
     spectral = {"start_nm": 300, "end_nm": 700, "step_nm": 10}
     wl = grid(300, 700, 1)
-    curves = receptor_sensitivities(wl)
+    curves = receptor_sensitivities(wl, apis.lambda_max_nm)
     write_pavo_csv(tmp_path / "same.csv", wl, dict(zip(("UV", "B", "G"), curves.T)))
     for name, curves_setting in (("same", str(tmp_path / "same.csv")), ("template", TEMPLATE),
-                                 ("peitsch", str(PEITSCH_1992_FILE))):
+                                 ("peitsch", str(apis.curves_file))):
         gather_responses(*args, {"responses": tmp_path / f"{name}.out", "irradiance": tmp_path / f"{name}.npz"},
-                         spectral=spectral, receptor_curves=curves_setting)
+                         spectral=spectral, receptor_set=apis, receptor_curves=curves_setting)
     default = read_table(flower / "responses.csv", numeric=["UV", "B", "G"], text=["side"])
     same, ours, peitsch = (read_table(tmp_path / f"{name}.out", numeric=["UV", "B", "G"], text=["side"])
                            for name in ("same", "template", "peitsch"))
@@ -248,7 +250,7 @@ def test_receptor_curves_from_a_csv_replace_the_default(workdir, tmp_path):
     shifted = receptor_sensitivities(wl, (344.0, 436.0, 574.0))
     write_pavo_csv(tmp_path / "red.csv", wl, dict(zip(("UV", "B", "G"), shifted.T)))
     gather_responses(*args, {"responses": tmp_path / "red.out", "irradiance": tmp_path / "red.npz"},
-                     spectral=spectral, receptor_curves=str(tmp_path / "red.csv"))
+                     spectral=spectral, receptor_set=apis, receptor_curves=str(tmp_path / "red.csv"))
     red = read_table(tmp_path / "red.out", numeric=["UV", "B", "G"], text=["side"])
     np.testing.assert_allclose(red["B"], ours["B"], rtol=1e-6)
     assert not np.allclose(red["G"], ours["G"], rtol=1e-3)

@@ -29,8 +29,8 @@ from beeoptics.eye.facetmap import anchor_vertices, diameter_map
 from beeoptics.eye.lattice import conformal_map, project_grid
 from beeoptics.eye.meshquery import MeshQuery
 from beeoptics.eye.optics import acceptance_angles
-from beeoptics.eye.quality import (anisotropy, field_match, lattice_quality, optics_quality, published_checks, size,
-                                   zone_contrast)
+from beeoptics.eye.quality import (anisotropy, field_match, fields, lattice_quality, optics_quality, published_checks,
+                                   size, zone_contrast)
 from beeoptics.eye.receptors import delta_phi, receptor_table, to_head
 from beeoptics.eye.relax import relax
 
@@ -92,16 +92,18 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
     seconds = time.perf_counter() - start
 
     points, edges = result.points, result.edges
+    corneal = query.interpolate(normals, points, result.faces)
+    corneal /= np.linalg.norm(corneal, axis=1, keepdims=True)
     if eye.axis_model == "field":
         spacing = np.median(np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1))
         axes = field_axes(eye.rotation, points, np.ones(len(points)), points, spacing)
     else:
-        axes = query.interpolate(normals, points, result.faces)
-        axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+        axes = corneal
     facet_um = query.interpolate(diameters, points, result.faces) * 1e3
     dphi = delta_phi(axes, edges)
     points_head, axes_head = to_head(eye, points, axes)
-    drho = acceptance_angles(facet_um, acceptance, eye.rhabdom_acceptance_deg, axes_head, eye.delta_rho_anchors)
+    drho = acceptance_angles(facet_um, acceptance, eye.rhabdom_acceptance_deg, axes_head, eye.delta_rho_anchors,
+                             eye.delta_rho, dphi)
     chord = np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1)
     lattice = lattice_quality(edges, result.boundary, result.geodesic, chord, facet_um)
     eye_optics = optics_quality(axes_head, dphi, facet_um, points_head)
@@ -116,9 +118,12 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
     count = len(points)
     sizes = size(vertices, faces, eye.rotation, count, facet_um)
     field = None
+    if eye.axis_model == "field" or "field_model" in eye.published:
+        field = {"coverage": field_match(axes_head, drho, dphi)}
     if "field_model" in eye.published:
-        field = {"coverage": field_match(axes_head, drho, dphi),
-                 "anisotropy": anisotropy(points, axes_head, edges, eye.rotation)}
+        field["anisotropy"] = anisotropy(points, axes_head, edges, eye.rotation)
+    normals_head = corneal @ eye.rotation
+    seen = fields(axes_head, normals_head, drho, dphi, delta_phi(corneal, edges))
     quality = {
         "eye": eye.name,
         "facets_per_eye": count,
@@ -134,6 +139,7 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         "optics": eye_optics,
         "acute_zone": zone,
         "size": sizes,
+        "fields": seen,
         "field": field,
         "dorsal_rim": None if rim is None else rim_summary(axes_head, *rim),
         "published": dict(eye.published),

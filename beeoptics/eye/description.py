@@ -30,6 +30,9 @@ class EyeDescription(NamedTuple):
     from, ``"normals"`` or ``"field"`` (:mod:`beeoptics.eye.axismodel`); ``dorsal_rim``, if
     given, how many facets form the dorsal rim area. ``published`` holds the published optics the eye is
     checked against, ``document`` the whole checked file, defaults filled in.
+    ``delta_rho`` is how its acceptance angles are set (its ``optics.delta_rho``,
+    or None). ``receptors`` names its receptor set (a shipped set's name, or a path
+    relative to the eye's folder; :mod:`beeoptics.vision.receptorset`).
     """
 
     name: str
@@ -45,7 +48,9 @@ class EyeDescription(NamedTuple):
     axis_model: str
     dorsal_rim: dict
     delta_rho_anchors: list
+    delta_rho: dict | None
     published: dict
+    receptors: str
     document: dict
 
 
@@ -58,6 +63,13 @@ def load_eye(path):
     """
     path = Path(path)
     doc = validate(load_yaml(path), "eye", path)
+    optics = doc.get("optics", {})
+    own = optics.get("delta_rho", {})
+    if own.get("model") == "measured" and not optics.get("delta_rho_anchors"):
+        raise InputError(path, "optics.delta_rho", "the measured model needs optics.delta_rho_anchors, the "
+                         "acceptance angles measured in named regions")
+    if own.get("model") == "delta_phi" and "ratio" not in own:
+        raise InputError(path, "optics.delta_rho.ratio", "the delta_phi model needs the ratio of Δρ to Δφ")
     p = doc["placement"]
     return EyeDescription(
         name=doc["name"], path=path, mesh_path=path.parent / doc["mesh"],
@@ -68,7 +80,8 @@ def load_eye(path):
         rhabdom_acceptance_deg=doc.get("optics", {}).get("rhabdom_acceptance_deg", RHABDOM_ACCEPTANCE_DEG),
         axis_model=doc["axes"]["model"], dorsal_rim=doc.get("dorsal_rim"),
         delta_rho_anchors=doc.get("optics", {}).get("delta_rho_anchors", []),
-        published=doc.get("published", {}), document=doc,
+        delta_rho=doc.get("optics", {}).get("delta_rho"),
+        published=doc.get("published", {}), receptors=doc["receptors"], document=doc,
     )
 
 
@@ -81,7 +94,8 @@ def load_eye_mesh(eye):
         If the mesh is missing (naming the eye file's ``mesh``), unusable
         (see :func:`~beeoptics.io.meshfile.read_mesh`), not one sheet (faces
         meeting at a single vertex), not in millimetres at bee size, or its
-        faces do not face outward along the eye's local +z.
+        faces do not face outward along the eye's local +z; or if the eye's
+        facet count could not tile it (:func:`check_facet_count`).
     """
     vertices, faces = read_mesh(eye.mesh_path, source=eye.path, field="mesh")
     pinched = ~np.asarray(igl.is_vertex_manifold(faces), bool).ravel()
@@ -109,4 +123,33 @@ def load_eye_mesh(eye):
             f"{int((normal_z <= 0).sum())} faces do not face +z; the eye must be a height "
             "field over xy in its local frame, wound counter-clockwise seen from outside",
         )
+    check_facet_count(eye, 0.5 * igl.doublearea(vertices, faces).sum())
     return vertices, faces
+
+
+def facet_count_range(area_mm2, diameters_um):
+    """How many hexagonal facets of the given diameters tile a cornea of ``area_mm2``: (fewest, most).
+
+    A hexagon of diameter d (between opposite sides) has area (√3/2)·d²;
+    the cornea holds fewest facets if all were as large as the largest
+    diameter, most if all were as small as the smallest.
+    """
+    hexagon = np.sqrt(3.0) / 2.0 * (np.asarray(diameters_um, float) * 1e-3) ** 2
+    return area_mm2 / hexagon.max(), area_mm2 / hexagon.min()
+
+
+def check_facet_count(eye, area_mm2):
+    """Refuse, at once, a facet count the cornea's area and the eye's facet diameters cannot hold.
+
+    Relaxation fills the cornea with facets at the diameters of the map
+    (:mod:`beeoptics.eye.relax`): far fewer facets than fit cannot fill it
+    (three cannot even be triangulated), far more would take hours to
+    squeeze in, each ending far smaller than measured.
+    """
+    fewest, most = facet_count_range(area_mm2, [a["diameter_um"] for a in eye.anchors])
+    if not np.floor(fewest) <= eye.facet_count <= np.ceil(most):
+        sizes = sorted({a["diameter_um"] for a in eye.anchors})
+        raise InputError(eye.path, "facets.count",
+                         f"{eye.facet_count} facets cannot tile this cornea of {area_mm2:.3g} mm² at "
+                         f"{'–'.join(f'{d:g}' for d in (sizes[0], sizes[-1]))} µm (facet_diameter.anchors): "
+                         f"facets of those diameters number {int(np.floor(fewest))}–{int(np.ceil(most))}")

@@ -9,9 +9,13 @@ positive towards the eye's own side, elevation positive dorsal, degrees.
 
 - The border of the right eye's field: for each elevation the medial and
   lateral limits of azimuth (the package's
-  ``eye/data/worker_eye_border_stuerzl2010.csv``), joined by monotone cubic
+  ``eye/data/apis_mellifera_worker_field_border_stuerzl2010.csv``), joined by monotone cubic
   interpolation (Fritsch & Carlson 1980, as Stürzl et al.'s implementation
-  does). Above 180° the field reaches behind the head.
+  does). Above 180° the field reaches behind the head. At +69° and −74.5°
+  the border closes round the whole ring of azimuths (−90° to 270°), so the
+  eye also sees the polar caps beyond: the field is the band between the
+  limits and the two caps, which take the closed ring's rows on to the
+  poles (as bee_view's and InvertPy's builders of the same model do).
 - The ommatidia sit in horizontal rows, ``Δφ_v/2`` apart in elevation,
   every other row shifted by half a step, so that an ommatidium's vertical
   neighbour in its column, two rows away, is ``Δφ_v`` away and its
@@ -47,7 +51,7 @@ from scipy.interpolate import PchipInterpolator, RegularGridInterpolator
 from beeoptics.io.table import read_table
 
 #: The border of the worker's field of view (Stürzl et al. 2010, after Seidl 1982).
-BORDER_FILE = Path(__file__).parent / "data" / "worker_eye_border_stuerzl2010.csv"
+BORDER_FILE = Path(__file__).parent / "data" / "apis_mellifera_worker_field_border_stuerzl2010.csv"
 #: Vertical Δφ at the equator and at the poles, degrees (Stürzl et al. 2010, after Seidl 1982).
 DELTA_PHI_V_EQUATOR, DELTA_PHI_V_POLE = 1.5, 4.5
 #: Horizontal Δφ, degrees: the smallest (at 45° lateral), straight ahead and at 90°, the
@@ -69,11 +73,12 @@ def border():
     (low, high) : elevation range of the field, degrees
     medial, lateral : callables, elevation (deg) → azimuth (deg)
     """
-    t = read_table(BORDER_FILE, numeric=["elevation_1_2", "azimuth_max_1_2", "elevation_3_4", "azimuth_max_3_4"])
-    lateral = PchipInterpolator(t["elevation_1_2"], t["azimuth_max_1_2"])
-    medial = PchipInterpolator(t["elevation_3_4"], t["azimuth_max_3_4"])
-    low = max(t["elevation_1_2"][0], t["elevation_3_4"][0])
-    high = min(t["elevation_1_2"][-1], t["elevation_3_4"][-1])
+    t = read_table(BORDER_FILE, numeric=["lateral_elevation_deg", "lateral_azimuth_deg", "medial_elevation_deg",
+                                         "medial_azimuth_deg"])
+    lateral = PchipInterpolator(t["lateral_elevation_deg"], t["lateral_azimuth_deg"])
+    medial = PchipInterpolator(t["medial_elevation_deg"], t["medial_azimuth_deg"])
+    low = max(t["lateral_elevation_deg"][0], t["medial_elevation_deg"][0])
+    high = min(t["lateral_elevation_deg"][-1], t["medial_elevation_deg"][-1])
     return (float(low), float(high)), medial, lateral
 
 
@@ -105,25 +110,32 @@ def azimuth_step(azimuth_deg, elevation_deg):
     return np.degrees(2.0 * np.arcsin(np.clip(ratio, 0.0, 1.0)))
 
 
-def inside(azimuth_deg, elevation_deg):
-    """Whether directions lie in the field, for eye azimuths in (−180, 180]."""
+def ring(elevation_deg):
+    """The medial and lateral azimuth limits of the field's row at each elevation, degrees: the border's,
+    and beyond its ends, where it has closed round the whole ring, the closed ring's (the caps)."""
     (low, high), medial, lateral = border()
+    e = np.clip(np.asarray(elevation_deg, float), low, high)
+    return medial(e), lateral(e)
+
+
+def inside(azimuth_deg, elevation_deg, caps=True):
+    """Whether directions lie in the field, for eye azimuths in (−180, 180]; with ``caps`` False, only
+    in the band the border draws (between −74.5° and 69°), without the polar caps beyond it."""
+    (low, high), _, _ = border()
     a, e = np.broadcast_arrays(np.asarray(azimuth_deg, float), np.asarray(elevation_deg, float))
-    within = (e >= low) & (e <= high)
-    ec = np.clip(e, low, high)
-    lo, hi = medial(ec), lateral(ec)
+    lo, hi = ring(e)
     # The lateral limit passes 180° near the poles: the field then wraps behind the head.
-    return within & (((a >= lo) & (a <= hi)) | (a + 360.0 <= hi) | (a - 360.0 >= lo))
+    seen = ((a >= lo) & (a <= hi)) | (a + 360.0 <= hi) | (a - 360.0 >= lo)
+    return seen if caps else seen & (e >= low) & (e <= high)
 
 
 @cache
 def _tables():
     """Elevation grid, the cumulative share of ommatidia below each elevation, and each row's
-    azimuth as a function of the share of its ommatidia medial to it."""
-    (low, high), medial, lateral = border()
-    elevation = np.linspace(low, high, _STEPS)
+    azimuth as a function of the share of its ommatidia medial to it; from pole to pole (the caps)."""
+    elevation = np.linspace(-90.0, 90.0, _STEPS)
     share = np.linspace(0.0, 1.0, _STEPS)
-    lo, hi = medial(elevation), lateral(elevation)
+    lo, hi = ring(elevation)
     azimuth = lo[:, None] + share[None, :] * (hi - lo)[:, None]
     per_degree = 1.0 / azimuth_step(azimuth, elevation[:, None])
     along = cumulative_trapezoid(per_degree, azimuth, axis=1, initial=0.0)

@@ -20,8 +20,13 @@ Land 1990 and Collins use for the bee's diffraction limit), or is
 measured: an eye description may give Δρ measured in named regions
 (``optics.delta_rho_anchors``), spread over the receptors by Shepard's
 inverse-distance weighting of the angles between their axes and the
-anchors' directions (:func:`measured_delta_rho`); an eye without such
-measurements keeps the fixed value.
+anchors' directions (:func:`measured_delta_rho`), or is a published
+multiple of each receptor's Δφ (``delta_phi``: Taylor et al. 2019 take
+Δρ = Δφ for bumblebees; Buchner 1984, as strawlab's eye map does, 1.1 Δφ
+for Drosophila). Which of these an eye follows is its own, named in its
+``optics.delta_rho`` (the ``species`` model, the default); ``fixed`` and
+``snyder`` apply one model to every eye, and an eye that names none keeps
+the fixed value.
 
 The acceptance function's solid angle, π Δρ²/(4 ln 2), turns a receptor's
 acceptance-weighted mean radiance into its irradiance. The eye's resolving
@@ -70,12 +75,13 @@ RAYLEIGH_FACTOR = 1.22
 
 
 class AcceptanceModel(NamedTuple):
-    """How each receptor's acceptance angle Δρ is set: ``model`` "fixed", "snyder" or "measured".
+    """How each receptor's acceptance angle Δρ is set: ``model`` "species", "fixed" or "snyder".
 
-    "fixed" gives every receptor ``fixed_deg``; "snyder" takes Δρ from the
-    facet diameter at ``wavelength_nm`` (:func:`snyder_delta_rho`);
-    "measured" spreads the eye's measured values (:func:`measured_delta_rho`),
-    ``fixed_deg`` for an eye without any.
+    "species" follows the eye's own ``optics.delta_rho`` (its measured
+    values, :func:`measured_delta_rho`; Snyder's model; or a multiple of
+    Δφ), ``fixed_deg`` for an eye that names none; "fixed" gives every
+    receptor ``fixed_deg``; "snyder" takes Δρ from the facet diameter at
+    ``wavelength_nm`` (:func:`snyder_delta_rho`).
     """
 
     model: str = "fixed"
@@ -128,24 +134,28 @@ def measured_delta_rho(axes_head, anchors, power=2.0):
 
 
 def acceptance_angles(facet_diameter_um, model=AcceptanceModel(), rhabdom_deg=RHABDOM_ACCEPTANCE_DEG,
-                      axes_head=None, anchors=()):
+                      axes_head=None, anchors=(), own=None, delta_phi_deg=None):
     """Per-receptor acceptance angle Δρ, degrees, by an :class:`AcceptanceModel`.
 
-    ``axes_head`` and ``anchors`` (the eye's measured Δρ) serve the "measured" model.
+    For the "species" model, ``own`` is the eye's ``optics.delta_rho``
+    (``{"model": "measured" | "snyder" | "delta_phi", "ratio": …}``, or None):
+    ``axes_head`` and ``anchors`` (the eye's measured Δρ) serve "measured",
+    ``delta_phi_deg`` (each receptor's) "delta_phi".
     """
     for name, value in (("fixed_deg", model.fixed_deg), ("wavelength_nm", model.wavelength_nm),
                         ("rhabdom_deg", rhabdom_deg)):
         if not np.isfinite(value) or value <= 0:
             raise ValueError(f"delta_rho: {name} must be positive, not {value!r}")
-    if model.model == "fixed":
+    kind = model.model if model.model != "species" else (own or {}).get("model", "fixed")
+    if kind == "fixed":
         return np.full(np.shape(facet_diameter_um), float(model.fixed_deg))
-    if model.model == "snyder":
+    if kind == "snyder":
         return snyder_delta_rho(facet_diameter_um, model.wavelength_nm, rhabdom_deg)
-    if model.model == "measured":
-        if len(anchors) == 0:
-            return np.full(np.shape(facet_diameter_um), float(model.fixed_deg))
+    if kind == "measured":
         return measured_delta_rho(axes_head, anchors)
-    raise ValueError(f"unknown acceptance model {model.model!r}; use 'fixed', 'snyder' or 'measured'")
+    if kind == "delta_phi":
+        return own["ratio"] * np.asarray(delta_phi_deg, float)
+    raise ValueError(f"unknown acceptance model {kind!r}; use 'species', 'fixed' or 'snyder'")
 
 
 def acceptance_solid_angle(delta_rho_deg):

@@ -8,13 +8,13 @@ pass or fail under ``checks``.
 
 import igl
 import numpy as np
-from scipy.spatial import ConvexHull
+from scipy.spatial import ConvexHull, cKDTree
 from scipy.spatial.distance import pdist
 
 from beeoptics.eye import fieldmodel
-from beeoptics.eye.fieldofview import visual_field
+from beeoptics.eye.fieldofview import extent, visual_field
 from beeoptics.eye.lattice import mean_over_edges, neighbour_counts
-from beeoptics.headframe import RIGHT, eye_azimuth_elevation, eye_direction, in_eye_plane
+from beeoptics.headframe import LEFT, RIGHT, eye_azimuth_elevation, eye_direction, in_eye_plane, mirror
 
 #: Half-width of the band around the equator within which the azimuthal
 #: extent of the field of view is read, degrees: about one row of facets.
@@ -89,6 +89,38 @@ def optics_quality(axes_head, dphi, facet_um, points_head):
     }
 
 
+def fields(axes_head, normals_head, delta_rho_deg, delta_phi_deg, normals_delta_phi_deg, width_px=720):
+    """Both eyes' fields with the receptors' axes and with the corneal normals at their facets.
+
+    Parameters
+    ----------
+    axes_head, normals_head : ndarray (n, 3)
+        The right eye's receptor axes and its cornea's normals at the facets, head frame.
+    delta_rho_deg, delta_phi_deg, normals_delta_phi_deg : ndarray (n,)
+        Acceptance angles, and the interommatidial angles of the axes and of the normals.
+
+    Returns
+    -------
+    dict
+        For ``axes`` and ``normals``: each eye's solid angle, the binocular
+        overlap's and the total (sr and share of the sphere,
+        :func:`beeoptics.eye.fieldofview.extent`), and the right eye's
+        elevation limits and azimuth limits at the equator, degrees.
+    """
+    n = len(axes_head)
+    sides = np.repeat([RIGHT, LEFT], n)
+    out = {}
+    for label, axes, dphi in (("axes", axes_head, delta_phi_deg), ("normals", normals_head, normals_delta_phi_deg)):
+        field = visual_field(np.vstack([axes, mirror(axes)]), sides, np.tile(delta_rho_deg, 2), np.tile(dphi, 2),
+                             width_px)
+        az, el = eye_azimuth_elevation(axes, RIGHT)
+        band = np.abs(el) <= EQUATOR_BAND_DEG
+        out[label] = {**extent(field), "elevation_deg": [float(el.min()), float(el.max())],
+                      "azimuth_at_equator_deg": [float(az[band].min()), float(az[band].max())] if band.any()
+                      else None}
+    return out
+
+
 def field_match(axes_head, delta_rho_deg, delta_phi_deg, width_px=720):
     """How one eye's field (the right one, head frame) covers the measured field and strays beyond it.
 
@@ -100,19 +132,23 @@ def field_match(axes_head, delta_rho_deg, delta_phi_deg, width_px=720):
     Returns
     -------
     dict
-        ``covered``: the share of the measured field ours covers;
-        ``outside``: the share of ours outside the measured field; both
-        solid angles, sr.
+        ``covered``: the share of the measured field ours covers, the polar
+        caps beyond the border's closed rings included
+        (:func:`beeoptics.eye.fieldmodel.inside`), and ``covered_without_caps``
+        the share of the band between them; ``outside``: the share of ours
+        outside the measured field; both solid angles, sr.
     """
     field = visual_field(axes_head, np.full(len(axes_head), RIGHT), delta_rho_deg, delta_phi_deg, width_px)
     azimuth, elevation = np.meshgrid(field.azimuth_deg, field.elevation_deg)
     # Map azimuths run towards +y; an eye's run towards its own side, -y for the right eye.
     measured = fieldmodel.inside(-azimuth, elevation)
+    band = fieldmodel.inside(-azimuth, elevation, caps=False)
     ours = field.eyes > 0
     weight = np.broadcast_to(np.cos(np.radians(field.elevation_deg))[:, None], ours.shape)
     pixel = (np.pi / ours.shape[0]) * (2.0 * np.pi / ours.shape[1])
     return {
         "covered": float(weight[ours & measured].sum() / weight[measured].sum()),
+        "covered_without_caps": float(weight[ours & band].sum() / weight[band].sum()),
         "outside": float(weight[ours & ~measured].sum() / weight[ours].sum()),
         "ours_sr": float(weight[ours].sum() * pixel),
         "measured_sr": float(weight[measured].sum() * pixel),
@@ -129,6 +165,20 @@ def anisotropy(points, axes_head, edges, rotation):
     next facet of the column (:mod:`beeoptics.eye.fieldmodel`). Each
     facet's values are the means over its edges; the model's are taken at
     the facet's own axis.
+
+    The lenses lie in rows on the cornea, and the ommatidia in columns in
+    the visual field: the cornea's vertical radius of curvature is 2.5
+    times its horizontal (del Portillo 1936), so a lens's diagonal
+    neighbours look 55° off the vertical (atan(2.5/√3), Seidl's ±55°) and
+    the lens two rows up, √3 spacings away on the cornea, is its nearest
+    neighbour straight above in the visual field, one Δφ_v away. Both are
+    counted: ``vertical_neighbours`` holds the share of the directions from
+    each facet to its six nearest neighbours that stand within 15° of the
+    vertical in the visual field, its neighbours taken among the axes
+    (``field``, as Stürzl et al.'s array is built: a third for Seidl's
+    lattice) and among the lenses on the cornea (``lenses``: none for a
+    lattice in rows), near the equator (|elevation| ≤ 20°, azimuth
+    20–140°) and over the eye.
 
     Parameters
     ----------
@@ -147,9 +197,8 @@ def anisotropy(points, axes_head, edges, rotation):
         Medians of ours and the model's Δφ_h and Δφ_v, the median per-facet
         ratios and the correlations over the facets, the ratio of horizontal
         to vertical, Δφ_v at the equator (|elevation| < 5°) and at
-        |elevation| 45–75°, and ``rows_from_horizontal_deg``, the lattice's
-        rows' angle from the head's horizontal (0 when the columns are
-        vertical, as in the bee).
+        |elevation| 45–75°, ``rows_from_horizontal_deg``, the lattice's
+        rows' angle from the head's horizontal, and ``vertical_neighbours``.
     """
     planar = points[:, :2] @ in_eye_plane(rotation).T
     step = planar[edges[:, 1]] - planar[edges[:, 0]]
@@ -167,6 +216,10 @@ def anisotropy(points, axes_head, edges, rotation):
     equator, high = np.abs(elevation) < 5.0, (np.abs(elevation) >= 45.0) & (np.abs(elevation) <= 75.0)
     # Hexagonal rows: six-fold symmetric, so the mean of exp(6iθ) gives their orientation.
     rows = np.degrees(np.angle(np.exp(6j * np.radians(direction)).mean())) / 6.0
+    middle = (np.abs(elevation) <= VERTICAL_BAND_DEG) & (azimuth >= VERTICAL_AZIMUTH_DEG[0]) & \
+        (azimuth <= VERTICAL_AZIMUTH_DEG[1])
+    shares = {kind: vertical_neighbour_share(among, axes_head) for kind, among in (("field", axes_head),
+                                                                                   ("lenses", points))}
 
     def median(values, where=ok):
         return float(np.median(values[where]))
@@ -183,7 +236,30 @@ def anisotropy(points, axes_head, edges, rotation):
         "horizontal_over_vertical": {"ours": median(ours_h) / median(ours_v),
                                      "model": median(model_h) / median(model_v)},
         "rows_from_horizontal_deg": float(rows),
+        "vertical_neighbours": {kind: {"equator": float(s[middle].mean()), "eye": float(s.mean())}
+                                for kind, s in shares.items()} | {"within_deg": VERTICAL_WITHIN_DEG},
     }
+
+
+#: Neighbour directions within this angle of the vertical count as vertical, degrees; and the region
+#: near the equator where the share is read: |elevation| up to the band, azimuth within the range.
+VERTICAL_WITHIN_DEG = 15.0
+VERTICAL_BAND_DEG = 20.0
+VERTICAL_AZIMUTH_DEG = (20.0, 140.0)
+
+
+def vertical_neighbour_share(among, axes_head):
+    """For each facet, the share of the directions to its six nearest neighbours (nearest among ``among``: the
+    axes, or the lenses' positions) that stand within :data:`VERTICAL_WITHIN_DEG` of the vertical in the visual
+    field: of the neighbours' axes, about the facet's own, head frame."""
+    _, near = cKDTree(among).query(among, k=7)
+    a = axes_head[:, None, :]
+    step = axes_head[near[:, 1:]] - a
+    step -= (step * a).sum(-1, keepdims=True) * a
+    up = np.array([0.0, 0.0, 1.0]) - axes_head[:, 2:3] * axes_head
+    up /= np.linalg.norm(up, axis=1, keepdims=True)
+    cos = np.abs((step * up[:, None, :]).sum(-1)) / np.linalg.norm(step, axis=-1)
+    return (cos >= np.cos(np.radians(VERTICAL_WITHIN_DEG))).mean(1)
 
 
 def size(vertices, faces, rotation, facet_count, facet_um):
@@ -220,13 +296,16 @@ def zone_contrast(axes_head, dphi, facet_um, anchor, radius_deg):
     }
 
 
-#: Bounds on the match to the measured field (issue 12 of the project): the share of the measured
-#: field covered, of ours outside it, the median ratio of Δφ to the model's, the correlation
-#: of Δφ with the model's over the facets, and the rows' angle from the horizontal, degrees.
+#: Bounds on the match to the measured field (issues 12 and 23 of the project): the share of the
+#: measured field covered, of ours outside it, the median ratio of Δφ to the model's, the
+#: correlation of Δφ with the model's over the facets, the rows' angle from the horizontal,
+#: degrees, and the share of neighbours straight above or below in the visual field near the
+#: equator (an array built by Stürzl et al.'s recipe has 0.23 of them).
 FIELD_COVERED_MIN, FIELD_OUTSIDE_MAX = 0.9, 0.1
 DELTA_PHI_RATIO_TOLERANCE = 0.1
 DELTA_PHI_CORRELATION_MIN = 0.5
 ROWS_FROM_HORIZONTAL_MAX_DEG = 10.0
+VERTICAL_NEIGHBOURS_MIN = 0.15
 
 
 def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None):
@@ -235,6 +314,7 @@ def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None):
     if field is not None:
         out["field_covered_at_least_0.9"] = field["coverage"]["covered"] >= FIELD_COVERED_MIN
         out["field_outside_at_most_0.1"] = field["coverage"]["outside"] <= FIELD_OUTSIDE_MAX
+    if field is not None and "anisotropy" in field:
         shape = field["anisotropy"]
         for key in ("delta_phi_h_deg", "delta_phi_v_deg"):
             out[f"{key}_median_ratio_within_10_percent"] = abs(shape[key]["median_ratio"] - 1.0) <= \
@@ -244,6 +324,8 @@ def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None):
         out["horizontal_over_vertical_within_10_percent"] = abs(ratio["ours"] / ratio["model"] - 1.0) <= \
             DELTA_PHI_RATIO_TOLERANCE
         out["rows_horizontal_within_10_deg"] = abs(shape["rows_from_horizontal_deg"]) <= ROWS_FROM_HORIZONTAL_MAX_DEG
+        out["vertical_neighbours_in_the_field_near_the_equator_at_least_0.15"] = \
+            shape["vertical_neighbours"]["field"]["equator"] >= VERTICAL_NEIGHBOURS_MIN
     for key in ("eye_length_mm", "eye_width_mm", "corneal_area_mm2", "facet_diameter_max_um"):
         spec = eye.published.get(key)
         if spec and sizes is not None:

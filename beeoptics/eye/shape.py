@@ -47,8 +47,8 @@ def field_outline(count, facet_diameter_mm, samples=200):
     Lengths are along the cornea. The polygon runs up the anterior edge and
     back down the posterior one.
     """
-    (low, high), _, _ = fieldmodel.border()
-    elevation = np.linspace(low, high, samples)
+    # From pole to pole: the field's band and the caps beyond, where its rows close round.
+    elevation = np.linspace(-90.0, 90.0, samples)
     scale = np.sqrt(count / fieldmodel.ommatidia_count())
     rows = np.concatenate([[0.0], np.cumsum(np.diff(elevation) * 0.5 * (
         fieldmodel.rows_per_degree(elevation[1:]) + fieldmodel.rows_per_degree(elevation[:-1])))])

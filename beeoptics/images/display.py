@@ -1,7 +1,9 @@
 """Showing bee catches to people: Collins's map3 and map2, and the display encoding.
 
 map3 (Collins §4.4) shows the UV, B and G catches as red, blue and green,
-"a white sum on the display when all channels are at unity". Unity is the
+"a white sum on the display when all channels are at unity"; for another
+species, the three receptor classes its receptor set names for red, green
+and blue (:mod:`beeoptics.vision.receptorset`). Unity is the
 catch of a white Lambertian surface under the scene's sky and sun, through
 the same receptor: each channel is divided by it (von Kries adaptation to
 white), so a white surface in the scene's light is white, a grey one grey,
@@ -23,9 +25,10 @@ from beeoptics.vision.human import srgb, tristimulus
 EXPOSURE_PERCENTILE = 99.5
 
 
-def map3(uv, b, g):
-    """Collins' map3: UV to red, B to blue, G to green; (1, 1, 1) is white. Linear RGB."""
-    return np.stack([uv, g, b], -1)
+def map3(relative, display):
+    """Collins' map3 of catches relative to white (n, classes): the ``display`` classes (indices of the red,
+    green and blue channels; a bee's UV, G and B) as linear RGB, (1, 1, 1) white."""
+    return np.asarray(relative)[..., np.asarray(display)]
 
 
 def encode(linear, scale=1.0):
@@ -33,21 +36,23 @@ def encode(linear, scale=1.0):
     return colour.cctf_encoding(np.clip(np.asarray(linear) / scale, 0.0, 1.0), function="sRGB")
 
 
-def bee_colours(catches, white_catches, wavelengths_nm, radiance):
+def bee_colours(catches, white_catches, wavelengths_nm, radiance, display):
     """Each receptor's catches relative to white, its map3 colour, and map2's display sRGB.
 
     Parameters
     ----------
-    catches, white_catches : ndarray (n, 3)
-        UV, B, G catches of each receptor, and what it would catch of a
+    catches, white_catches : ndarray (n, classes)
+        Each class's catch of each receptor, and what it would catch of a
         white Lambertian surface under the scene's light.
     wavelengths_nm : ndarray
     radiance : ndarray (n, n_wavelengths)
         Each receptor's mean spectral radiance.
+    display : sequence of int
+        The classes shown as red, green and blue (:func:`map3`).
 
     Returns
     -------
-    relative : ndarray (n, 3)
+    relative : ndarray (n, classes)
         Catches over white's: 1 is white.
     map3 : ndarray (n, 3)
         Linear RGB.
@@ -56,7 +61,7 @@ def bee_colours(catches, white_catches, wavelengths_nm, radiance):
     """
     relative = np.asarray(catches) / np.asarray(white_catches)
     xyz = tristimulus(wavelengths_nm, radiance)
-    return (relative, map3(relative[:, 0], relative[:, 1], relative[:, 2]),
+    return (relative, map3(relative, display),
             srgb(xyz, np.percentile(xyz[:, 1], EXPOSURE_PERCENTILE)))
 
 

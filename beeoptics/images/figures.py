@@ -8,13 +8,12 @@ and coloured by the target facet diameter.
 import textwrap
 
 import numpy as np
-from matplotlib import patheffects
+from matplotlib import colormaps, patheffects
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from beeoptics.eye.optics import angular_sensitivity
 from beeoptics.io.atomic import atomic_path
-from beeoptics.vision.sensitivity import RECEPTORS
 
 #: PNG metadata without a version string, so figures do not change with matplotlib's.
 _METADATA = {"Software": None}
@@ -84,31 +83,38 @@ def eye_map(points, values, boundary_xy, path, label, title):
     save(fig, path)
 
 
-def sensitivities(wavelengths, receptors, overall, path, source):
-    """Collins Fig. 6 and Fig. 5a: the receptor curves and the overall sensitivity S(λ).
+def sensitivities(wavelengths, receptors, names, overall, path, source):
+    """Collins Fig. 6 and Fig. 5a: the receptor curves and, where the species has one, the overall S(λ).
 
     Parameters
     ----------
     wavelengths : ndarray (n,)
         nm.
-    receptors : ndarray (n, 3)
-        S_UV, S_B, S_G, drawn each with its peak at one.
-    overall : ndarray (n,)
+    receptors : ndarray (n, k)
+        The classes' curves, drawn each with its peak at one, coloured by the wavelength of its peak.
+    names : sequence of str
+        The classes.
+    overall : ndarray (n,) or None
         S(λ), drawn on a log axis as von Helversen (1972) plots it.
     source : str
         Where the receptor curves come from, for the title.
     """
-    fig = Figure(figsize=(9.0, 3.6), constrained_layout=True)
-    left, right = fig.subplots(1, 2)
-    for k, (name, colour) in enumerate(zip(RECEPTORS, ("tab:purple", "tab:blue", "tab:green"))):
-        left.plot(wavelengths, receptors[:, k] / receptors[:, k].max(), color=colour, label=f"S$_{{{name}}}$")
+    fig = Figure(figsize=(9.0 if overall is not None else 5.0, 3.6), constrained_layout=True)
+    axes = np.atleast_1d(fig.subplots(1, 2 if overall is not None else 1))
+    left = axes[0]
+    peaks = wavelengths[np.argmax(receptors, axis=0)]
+    hue = colormaps["nipy_spectral"]((peaks - 300.0) / 400.0 * 0.9 + 0.05)
+    for k, name in enumerate(names):
+        left.plot(wavelengths, receptors[:, k] / receptors[:, k].max(), color=hue[k], label=f"S$_{{{name}}}$")
     left.set(xlabel="wavelength, nm", ylabel="relative sensitivity",
-             title=f"receptor sensitivities (Fig. 6)\n{source}")
+             title=textwrap.fill(f"receptor sensitivities (Fig. 6): {source}", 60))
+    left.title.set_fontsize(9)
     left.legend(frameon=False)
-    right.semilogy(wavelengths, overall, color="k")
-    right.set(xlabel="wavelength, nm", ylabel="S(λ), relative",
-              title="overall sensitivity (Fig. 5a)\npeaks 16 : 2.7 : 1 (von Helversen 1972)")
-    for ax in (left, right):
+    if overall is not None:
+        axes[1].semilogy(wavelengths, overall, color="k")
+        axes[1].set(xlabel="wavelength, nm", ylabel="S(λ), relative",
+                    title="overall sensitivity (Fig. 5a)\npeaks 16 : 2.7 : 1 (von Helversen 1972)")
+    for ax in axes:
         ax.set_xlim(wavelengths[0], wavelengths[-1])
     save(fig, path)
 
@@ -162,7 +168,7 @@ def _locus_labels(wl, xy, width):
     return [(f"{a:g}" if a == b else f"{a:g}–{b:g}", p) for a, p, b in groups]
 
 
-def colour_space(points, colours, outline, locus, path, title, locus_label, labels=RECEPTORS):
+def colour_space(points, colours, outline, locus, path, title, locus_label, labels):
     """Receptor colours in a bee colour space (Collins Fig. 5b), with the spectral locus.
 
     Parameters

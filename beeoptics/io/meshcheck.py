@@ -2,14 +2,19 @@
 
 pymeshlab and libigl trust a mesh's indices: a face that names a vertex past
 the last one crashes them (a segmentation fault, a corrupted heap) or is
-dropped without a word. So a mesh file is first read here with meshio
-(PLY, OFF, STL; pure Python and numpy), for glTF from its JSON and buffers,
-and for OBJ line by line, and every vertex and index is checked:
+dropped without a word. So a mesh file is first read here in Python: PLY
+with plyfile (every variant of the format: ASCII and binary, faces with
+colours and other properties, as MeshLab writes them), OFF and STL with
+meshio, glTF from its JSON and buffers, and OBJ line by line, and every
+vertex and index is checked:
 coordinates finite, indices within the vertices (and, in an OBJ, within
 its texture coordinates and normals), no face repeating a vertex or of zero
 area. A file that cannot be parsed (a binary PLY cut short, an OBJ face of
 texture or normal indices only) is refused with the parser's message.
-Faces and vertices are counted from 1, in the file's order.
+Faces and vertices are counted from 1, in the file's order. A PLY file is
+read here whole, with its face or vertex colours and texture coordinates
+(:func:`read_ply`), and no native library reads it after: pymeshlab's PLY
+importer sees none of the files users bring.
 
 MeshLab's OBJ reader and this one need not split a line alike (a vertex
 line that starts with a tab is one MeshLab skips), so an OBJ is handed to
@@ -19,6 +24,8 @@ statement a line, single spaces, the material library by its full path.
 References
 ----------
 Schlömer N (2022) meshio: I/O for mesh files. Zenodo, doi:10.5281/zenodo.1173115.
+Dlugosz D (2024) plyfile: NumPy-based PLY format input and output for Python. github.com/dranjan/python-plyfile.
+Turk G (1994) The PLY polygon file format. (The format as plyfile and MeshLab read it.)
 Khronos Group (2021) glTF 2.0 Specification, version 2.0.1, §3.6 Geometry and §5.1 Accessors.
 """
 
@@ -29,11 +36,16 @@ from pathlib import Path
 
 import meshio
 import numpy as np
+import plyfile
 
 from beeoptics.io.errors import InputError
 
 #: File suffixes meshio reads, and its name for each format.
-MESHIO_FORMATS = {".ply": "ply", ".off": "off", ".stl": "stl"}
+MESHIO_FORMATS = {".off": "off", ".stl": "stl"}
+#: Names writers give a PLY face's corner list, a vertex's texture coordinates, a face's corners' (MeshLab's).
+PLY_CORNERS = ("vertex_indices", "vertex_index")
+PLY_VERTEX_UV = (("s", "t"), ("u", "v"), ("texture_u", "texture_v"))
+PLY_FACE_UV = "texcoord"
 #: glTF accessor component types of indices and positions: numpy type (glTF 2.0 §5.1.3).
 GLTF_COMPONENTS = {5121: np.uint8, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 #: glTF primitive mode of triangles (glTF 2.0 §5.24.2), the default.
@@ -54,12 +66,22 @@ def check_mesh_file(path):
     path = Path(path)
     suffix = path.suffix.lower()
     vertices, faces = (_gltf(path) if suffix in (".gltf", ".glb") else _obj(path)[:2] if suffix == ".obj"
-                       else _meshio(path))
+                       else _ply(_ply_data(path), path) if suffix == ".ply" else _meshio(path))
+    return _checked(path, vertices, faces)
+
+
+def _checked(path, vertices, faces):
+    """The mesh, once every coordinate is finite and every face names three distinct vertices it has and
+    has an area; else the error naming the first that does not."""
     if len(vertices) == 0 and len(faces) == 0:
         raise InputError(path, "", "cannot read mesh: it holds no vertices and no faces")
     bad = np.flatnonzero(~np.isfinite(vertices).all(1))
     if bad.size:
         raise InputError(path, f"vertex {bad[0] + 1}", "a coordinate is not a finite number")
+    # Embree takes coordinates in single precision: beyond its range they would be infinite.
+    huge = np.flatnonzero((np.abs(vertices) > np.finfo(np.float32).max).any(1))
+    if huge.size:
+        raise InputError(path, f"vertex {huge[0] + 1}", "a coordinate is beyond single precision's range (3.4e38)")
     if len(faces) == 0:
         raise InputError(path, "faces", "the mesh has no faces")
     outside = np.flatnonzero(((faces < 0) | (faces >= len(vertices))).any(1))
@@ -80,11 +102,110 @@ def check_mesh_file(path):
     return vertices, faces
 
 
+def read_ply(path):
+    """Vertices, triangles, face colours, texture coordinates of a PLY file, every index and value checked.
+
+    Returns
+    -------
+    vertices : ndarray (n, 3)
+    faces : ndarray (m, 3)
+    colours : ndarray (m, 3) in [0, 1], or None
+        Each face's colour: its own (``red``, ``green``, ``blue`` of the
+        face element, as MeshLab writes ``save_face_color``), or where the
+        faces have none their corners' if every face's three corners agree.
+    uv : ndarray (m, 3, 2), or None
+        Each corner's texture coordinates: the face's ``texcoord`` list
+        (MeshLab's per-wedge coordinates) or its vertices' ``s, t`` (or ``u, v``).
+
+    Raises
+    ------
+    InputError
+        As :func:`check_mesh_file` does.
+    """
+    path = Path(path)
+    data = _ply_data(path)
+    vertices, faces = _checked(path, *_ply(data, path))
+    face, vertex = data["face"].data, data["vertex"].data
+    colours = _ply_colours(face, path, "face")
+    if colours is None:
+        corners = _ply_colours(vertex, path, "vertex")
+        if corners is not None and (corners[faces] == corners[faces][:, :1]).all():
+            colours = corners[faces][:, 0]
+    uv = None
+    if PLY_FACE_UV in face.dtype.names:
+        uv = _lists(face[PLY_FACE_UV], 6, path, "texcoord lists hold six numbers, u and v of each corner")
+        uv = uv.astype(float).reshape(-1, 3, 2)
+    else:
+        names = next((pair for pair in PLY_VERTEX_UV if set(pair) <= set(vertex.dtype.names)), None)
+        if names is not None:
+            uv = np.column_stack([vertex[n] for n in names]).astype(float)[faces]
+    if uv is not None and not np.isfinite(uv).all():
+        raise InputError(path, "texture coordinates", "a texture coordinate is not a finite number")
+    return vertices, faces, colours, uv
+
+
+def _ply_data(path):
+    """plyfile's view of a PLY file of triangles; a file it cannot parse, or of other polygons, refused."""
+    # Known list lengths let plyfile read the lists as fixed-width records (a million faces in
+    # a fraction of a second) while it still checks every list's length.
+    known = {"face": {**{name: 3 for name in PLY_CORNERS}, PLY_FACE_UV: 6}}
+    try:
+        data = plyfile.PlyData.read(str(path), known_list_len=known)
+    except plyfile.PlyElementParseError as e:
+        if "unexpected list length" in str(e) and e.prop is not None and e.prop.name in PLY_CORNERS:
+            raise InputError(path, f"face {e.row + 1}", "faces must be triangles; this one is not") from None
+        raise InputError(path, "", f"cannot read mesh: {' '.join(str(e).split())}") from None
+    except (plyfile.PlyParseError, ValueError, TypeError, IndexError, OSError) as e:
+        raise InputError(path, "", f"cannot read mesh: {' '.join(str(e).split()) or type(e).__name__}") from None
+    for element in ("vertex", "face"):
+        if element not in data:
+            raise InputError(path, element, f"the file has no {element} element")
+    return data
+
+
+def _ply_colours(records, path, element):
+    """The ``red, green, blue`` of a PLY element's records in [0, 1] (n, 3), or None; uchar values are 0–255."""
+    if records.dtype.names is None or not {"red", "green", "blue"} <= set(records.dtype.names):
+        return None
+    rgb = np.column_stack([records[c] for c in ("red", "green", "blue")])
+    scale = 255.0 if rgb.dtype.kind in "iu" else 1.0
+    rgb = rgb.astype(float) / scale
+    if not (np.isfinite(rgb).all() and (rgb >= 0.0).all() and (rgb <= 1.0).all()):
+        raise InputError(path, f"{element} colours", "colours must lie in 0–255 (integers) or 0–1 (floats)")
+    return rgb
+
+
+def _ply(data, path):
+    """Vertices and triangles of a PLY file's data (:func:`_ply_data`)."""
+    vertex, face = data["vertex"].data, data["face"].data
+    if not {"x", "y", "z"} <= set(vertex.dtype.names or ()):
+        raise InputError(path, "vertex", "vertices need the properties x, y and z")
+    corners = next((n for n in PLY_CORNERS if n in (face.dtype.names or ())), None)
+    if corners is None:
+        raise InputError(path, "face", f"faces need a corner list ({' or '.join(PLY_CORNERS)})")
+    vertices = np.column_stack([vertex[c] for c in ("x", "y", "z")]).astype(float).reshape(-1, 3)
+    faces = _lists(face[corners], 3, path, "faces must be triangles; this one is not")
+    if faces.dtype.kind not in "iu":
+        raise InputError(path, "face", f"corner indices must be integers, not {faces.dtype}")
+    return vertices, faces.astype(np.int64)
+
+
+def _lists(values, width, path, refusal):
+    """A PLY list property of each face as an array (m, width); a face whose list is not ``width`` long refused."""
+    if values.dtype == object:
+        # ASCII files: plyfile reads each face's list on its own (a binary file's, at a known length, at once).
+        lengths = np.array([len(v) for v in values])
+        if (lengths != width).any():
+            raise InputError(path, f"face {np.argmax(lengths != width) + 1}", refusal)
+        values = np.stack(values) if len(values) else np.zeros((0, width), np.int64)
+    return np.asarray(values).reshape(-1, width)
+
+
 def _meshio(path):
     kind = MESHIO_FORMATS.get(path.suffix.lower())
     if kind is None:
         raise InputError(path, "", f"unknown mesh format {path.suffix!r}; use "
-                         + ", ".join([".obj", *MESHIO_FORMATS, ".gltf", ".glb"]))
+                         + ", ".join([".obj", ".ply", *MESHIO_FORMATS, ".gltf", ".glb"]))
     try:
         mesh = meshio.read(path, file_format=kind)
     except Exception as e:  # meshio raises what its parsers meet: ValueError, IndexError, its own ReadError

@@ -1,8 +1,10 @@
 """Reading triangle meshes, and refusing the ones that cannot be used.
 
-Meshes are read with pymeshlab, which knows OBJ, PLY, STL, OFF and glTF
+Meshes are read with pymeshlab, which knows OBJ, STL, OFF and glTF
 (``.gltf`` and ``.glb``), once every index and value of the file has been
-checked in Python (:mod:`beeoptics.io.meshcheck`), since a bad index crashes it.
+checked in Python (:mod:`beeoptics.io.meshcheck`), since a bad index crashes
+it; PLY files are read whole in Python (plyfile), colours and texture
+coordinates included, and pymeshlab never sees them.
 An eye or scene mesh must exist, hold faces, be made of triangles (a
 polygon would be split along an arbitrary diagonal, so its shape would
 depend on the reader) and be manifold along its edges.
@@ -17,7 +19,7 @@ import pymeshlab
 
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
-from beeoptics.io.meshcheck import canonical_obj, check_mesh_file
+from beeoptics.io.meshcheck import canonical_obj, check_mesh_file, read_ply
 
 
 def read_mesh(path, patterns=False, source=None, field=""):
@@ -39,6 +41,10 @@ def read_mesh(path, patterns=False, source=None, field=""):
         raise InputError(source or path, field, f"no such mesh file {path}")
     if path.stat().st_size == 0:
         raise InputError(path, "faces", "the file is empty: the mesh has no faces")
+    if path.suffix.lower() == ".ply":
+        vertices, faces, colours, uv = read_ply(path)
+        _check_manifold(path, faces)
+        return (vertices, faces, colours, uv) if patterns else (vertices, faces)
     # Also refuses faces that are not triangles, in every format: pymeshlab's own
     # polygon list took a fifth of loading a meadow of a million triangles.
     check_mesh_file(path)
@@ -60,12 +66,16 @@ def read_mesh(path, patterns=False, source=None, field=""):
         raise InputError(path, "faces", "the mesh has no faces")
     vertices = mesh.vertex_matrix().astype(np.float64)
     faces = mesh.face_matrix().astype(np.int64)
-    if not igl.is_edge_manifold(faces)[0]:
-        raise InputError(path, "faces", "the mesh is not manifold: an edge is shared by more than two faces")
+    _check_manifold(path, faces)
     if not patterns:
         return vertices, faces
     uv = mesh.wedge_tex_coord_matrix().reshape(-1, 3, 2) if mesh.has_wedge_tex_coord() else None
     return vertices, faces, _face_colours(mesh, faces), uv
+
+
+def _check_manifold(path, faces):
+    if not igl.is_edge_manifold(faces)[0]:
+        raise InputError(path, "faces", "the mesh is not manifold: an edge is shared by more than two faces")
 
 
 def _face_colours(mesh, faces):

@@ -16,25 +16,25 @@ from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 
 
-def write_table(path, columns):
-    """Write a dict of equal-length columns to a CSV file, atomically."""
+def write_table(path, columns, digits=9):
+    """Write a dict of equal-length columns to a CSV file, atomically, floats to ``digits`` significant digits."""
     names = list(columns)
     cols = [np.asarray(columns[k]) for k in names]
     n = len(cols[0])
     if any(len(c) != n for c in cols):
         raise ValueError("columns differ in length")
-    text = [c.astype(str) if c.dtype.kind in "OUSb" else _format(c) for c in cols]
+    text = [c.astype(str) if c.dtype.kind in "OUSb" else _format(c, digits) for c in cols]
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(names)
         w.writerows(zip(*text))
 
 
-def _format(column):
+def _format(column, digits):
     if column.dtype.kind in "iu":
         return column.astype(str)
     values = column.astype(float)
-    return np.where(np.isnan(values), "", np.char.mod("%.9g", values))
+    return np.where(np.isnan(values), "", np.char.mod(f"%.{digits}g", values))
 
 
 def read_table(path, numeric=(), text=()):
@@ -96,3 +96,34 @@ def _is_number(text):
     except ValueError:
         return not text.strip()
     return True
+
+
+#: Significant digits of measured data written into the package: every digit of the published values.
+MEASURED_DIGITS = 12
+
+
+def import_table(source, target, columns, minimum=None):
+    """Write a published table of measurements into the package's layout.
+
+    The package keeps each measurement it needs at run time in its own
+    layout, written by this function from the published file: the columns
+    named as the package names them (``columns`` maps the source's names
+    to ours, in the order written), values unchanged to the twelve
+    significant digits they are written with, more than any published
+    value here has. The source and licence stand in the data folder's README.
+
+    Parameters
+    ----------
+    source, target : path
+    columns : dict of str to str
+        Source column → the package's name.
+    minimum : float, optional
+        Values below it are set to it: pavo's ``sensdata`` sets the negative
+        ends of recorded spectral sensitivities to zero, and so does the
+        package, once, here.
+    """
+    table = read_table(source, numeric=list(columns))
+    out = {ours: np.asarray(table[theirs], float) for theirs, ours in columns.items()}
+    if minimum is not None:
+        out = {k: np.maximum(v, minimum) for k, v in out.items()}
+    write_table(target, out, MEASURED_DIGITS)

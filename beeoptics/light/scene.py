@@ -30,7 +30,7 @@ from beeoptics.light.daylight import clear_sky
 from beeoptics.light.materials import material, spectrum
 from beeoptics.light.sky import CLEAR_SKIES, Sky, clear_sky_dome, luminance, uniform_sky
 from beeoptics.light.sun import Sun, sun_disc
-from beeoptics.raycasting import embree_scene
+from beeoptics.raycasting import embree_scene, first_hits
 
 
 class SceneObject(NamedTuple):
@@ -261,6 +261,21 @@ def relit(scene, wavelengths, light):
 def raycasting_scene(scene):
     """Open3D's Embree scene for the scene's objects; geometry ids follow their order."""
     return embree_scene((o.vertices, o.faces) for o in scene.objects)
+
+
+def back_faces_met(rs, origins, axes):
+    """Of receptors at ``origins`` (m) looking along ``axes`` in an Embree scene ``rs``, how many first meet
+    a surface along the axis, and how many of those meet its back (its triangle's winding facing away).
+
+    A receptor inside a closed mesh, or below a ground, meets only back faces;
+    among two-sided open surfaces (blades, petals) about as many backs as
+    fronts face a receptor at random, so a majority of backs says the eye is
+    enclosed rather than among them.
+    """
+    hits = first_hits(rs, np.column_stack([origins, axes]).astype(np.float32))
+    met = np.isfinite(hits["t_hit"])
+    back = met & ((hits["primitive_normals"] * axes).sum(1) > 0.0)
+    return int(met.sum()), int(back.sum())
 
 
 def receptors_in_world(scene, positions_mm, axes):

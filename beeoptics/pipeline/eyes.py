@@ -25,10 +25,7 @@ from beeoptics.io.receptortable import read_receptors, write_receptors
 from beeoptics.headframe import RIGHT
 from beeoptics.io.table import write_table
 from beeoptics.pipeline.logs import log
-from beeoptics.vision.sensitivity import LAMBDA_MAX_APIS, RECEPTORS
-
-#: Wavelengths at which the Rayleigh limit is given, one per receptor class: its λmax (Peitsch et al. 1992).
-RAYLEIGH_NM = dict(zip(RECEPTORS, LAMBDA_MAX_APIS))
+from beeoptics.vision.receptorset import peaks_nm, receptor_set_of
 #: The Δφ map's kernel, in facet spacings: wide enough to average a facet's six-edge noise over
 #: some thirty facets, narrow against the eye's hundred-facet gradients.
 DELTA_PHI_KERNEL = 3.0
@@ -107,26 +104,32 @@ def eye_figures(eye_file, relaxation_npz, receptors_csv, quality_json, outputs):
     title = f"{eye.name}: the right eye's field of view (grey, within Δρ/2 of an axis or inside the lattice)"
     border = None
     if "field_model" in eye.published:
-        (low, high), medial, lateral = fieldmodel.border()
-        e = np.linspace(low, high, 200)
-        border = (e, medial(e), lateral(e))
+        # The border, and beyond its closed rings the caps, to the poles.
+        e = np.linspace(-90.0, 90.0, 361)
+        border = (e, *fieldmodel.ring(e))
         quality = json.loads(Path(quality_json).read_text())["field"]["coverage"]
-        title += (f"; covers {100 * quality['covered']:.0f} % of the measured field, "
-                  f"{100 * quality['outside']:.1f} % of the model's field lies beyond it")
+        title += (f"; covers {100 * quality['covered']:.0f} % of the measured field with its polar caps "
+                  f"({100 * quality['covered_without_caps']:.0f} % without), "
+                  f"{100 * quality['outside']:.1f} % of ours lies beyond it")
     figures.field_of_view(azimuth, field.elevation_deg, seen, outputs["field_of_view"], title, border)
 
 
-def acuity_table(receptors_csvs, outputs, *, width_px=720):
+def acuity_table(eyes, outputs, *, width_px=720):
     """``outputs["acuity"]``: the acuity of each eye class, one row each (:func:`beeoptics.eye.acuity.acuity`).
 
-    The Rayleigh limit is given at each receptor class's λmax.
+    The Rayleigh limit is given at each receptor class's peak; a column of
+    a class another species lacks is empty in its row.
 
     Parameters
     ----------
-    receptors_csvs : dict of str to path
-        Eye class to its receptor table.
+    eyes : dict of str to (path, path)
+        Eye class to its eye.yaml and its receptor table.
     """
-    rows = [{"eye": name, **acuity(read_receptors(csv), RAYLEIGH_NM, width_px)}
-            for name, csv in receptors_csvs.items()]
-    write_table(outputs["acuity"], {k: [r[k] for r in rows] if k == "eye" else np.array([r[k] for r in rows])
-                                    for k in rows[0]})
+    rows = []
+    for name, (eye_file, csv) in eyes.items():
+        receptor_set = receptor_set_of(eye_file)
+        rows.append({"eye": name, **acuity(read_receptors(csv), dict(zip(receptor_set.classes, peaks_nm(receptor_set))),
+                                          width_px)})
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    write_table(outputs["acuity"], {k: [r[k] for r in rows] if k == "eye" else
+                                    np.array([r.get(k, np.nan) for r in rows]) for k in keys})

@@ -24,7 +24,7 @@ from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scen
 from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
-from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS
+from beeoptics.vision.receptorset import SPECIES
 from beeoptics.world.flight import (azimuth_elevation_components, disc_angular_diameter, disc_hits, frame_times,
                                     optic_flow, pose, read_flight)
 
@@ -90,8 +90,8 @@ def human_frames(scene_file, flight_file, outputs, *, first, count, fps, spectra
         np.savez(tmp, srgb=np.array(images, np.float32))
 
 
-def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, *, fps, spectral, target=None,
-                    background="scene", receptor_curves=PEITSCH_1992, title=""):
+def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, *, fps, spectral, receptor_set,
+                    target=None, background="scene", receptor_curves=SPECIES, title=""):
     """The frames of one eye's flight, gathered from the shares of :func:`trace_frames` and
     :func:`human_frames` (``frame_npzs``, ``human_npzs``, in order).
 
@@ -101,9 +101,9 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
     degrees per second along azimuth and elevation), ``target`` (per frame:
     the distance to the target's centre, its angular diameter, how many
     receptors' axes meet it and their mean catches relative to white),
-    ``animation`` (GIF at ``fps``: map3 and the UV channel on the visual
-    field beside the human view) and ``flow_figure`` (the middle frame's
-    flow field).
+    ``animation`` (GIF at ``fps``: map3 and the shortest-peaked class, the
+    bee's UV, on the visual field beside the human view) and
+    ``flow_figure`` (the middle frame's flow field).
 
     Parameters
     ----------
@@ -121,6 +121,8 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
     az = np.degrees(np.arctan2(head_axes[:, 1], head_axes[:, 0]))
     el = np.degrees(np.arcsin(np.clip(head_axes[:, 2], -1.0, 1.0)))
     responses, flows, targets, frames = [], [], [], []
+    # The animation's second panel: the class of the shortest peak (the bee's UV, which the sky fills).
+    shortest = int(np.argmin(np.where(np.isnan(receptor_set.lambda_max_nm), np.inf, receptor_set.lambda_max_nm)))
     # Each share read once, whole: an npz file would read an array again on every access.
     shares = [dict(np.load(f)) for f in frame_npzs]
     humans = np.concatenate([np.load(f)["srgb"] for f in human_npzs])
@@ -129,8 +131,8 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
         g = {name: share[name][j] for name in ("depth_m", "time_s", "position_m", "rotation", "velocity_m_s",
                                                "angular_velocity_rad_s")}
         radiance = share["radiance"][j]
-        columns, arrays = respond(table, radiance, scene, wl, scene_file, background=background,
-                                  receptor_curves=receptor_curves)
+        columns, arrays = respond(table, radiance, scene, wl, scene_file, receptor_set=receptor_set,
+                                  background=background, receptor_curves=receptor_curves)
         n = len(table.id)
         responses.append({"frame": np.full(n, k), "t_s": np.full(n, float(g["time_s"])), **columns})
         rotation = g["rotation"]
@@ -141,8 +143,8 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
                       "side": table.side, "azimuth_deg": az, "elevation_deg": el, "depth_m": g["depth_m"],
                       "flow_azimuth_deg_s": flow_deg[:, 0], "flow_elevation_deg_s": flow_deg[:, 1],
                       "flow_deg_s": np.hypot(*flow_deg.T)})
-        catches = np.column_stack([columns[r] for r in RECEPTORS])
-        relative, colours, _ = bee_colours(catches, arrays["white_q"], wl, radiance)
+        catches = np.column_stack([columns[r] for r in receptor_set.classes])
+        relative, colours, _ = bee_colours(catches, arrays["white_q"], wl, radiance, receptor_set.display)
         if target is not None:
             origins = table.position * 1e-3 @ rotation.T + g["position_m"]
             disc = (target["position_m"], target["normal"], target["radius_m"])
@@ -152,9 +154,10 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
                             "angular_diameter_deg": np.degrees(disc_angular_diameter(g["position_m"], *disc)),
                             "receptors": int(on.sum()),
                             **{f"{r}_relative": float(relative[on, j].mean()) if on.any() else np.nan
-                               for j, r in enumerate(RECEPTORS)}})
+                               for j, r in enumerate(receptor_set.classes)}})
         panels = {"bee colours (map3)": np.where(seen[..., None], encode(paint(field, colours)), np.nan),
-                  "UV catch over white's": np.repeat(np.clip(paint(field, relative[:, :1]), 0.0, 1.0), 3, -1)}
+                  f"{receptor_set.classes[shortest]} catch over white's":
+                      np.repeat(np.clip(paint(field, relative[:, shortest:shortest + 1]), 0.0, 1.0), 3, -1)}
         frames.append(figures.visual_field_frame(panels, field.eyes, field.azimuth_deg, field.elevation_deg,
                                                  human,
                                                  f"{title}, t = {float(g['time_s']):.2f} s"))

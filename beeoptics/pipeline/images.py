@@ -12,6 +12,7 @@ from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode
 from beeoptics.images.fieldmaps import paint
 from beeoptics.headframe import in_eye_plane
+from beeoptics.pipeline.outputs import channel
 from beeoptics.images.retina import canvas, density, panel_extents, retinal_plane, voronoi
 from beeoptics.io.imagefile import read_image, write_exr
 from beeoptics.io.receptortable import read_receptors
@@ -19,15 +20,17 @@ from beeoptics.io.table import read_table
 from beeoptics.spectra import grid
 from beeoptics.vision import colourspace
 from beeoptics.vision.catches import photon_flux
-from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, describe, overall_sensitivity, sensitivities
+from beeoptics.vision.receptorset import SPECIES, curves, describe, overall
 
-def _responses(responses_csv, irradiance_npz, columns=()):
-    """The responses table, the irradiance file, and every receptor's catches relative to white,
-    map3 colour and map2 colour (:func:`beeoptics.images.display.bee_colours`)."""
-    resp = read_table(responses_csv, numeric=["id", *RECEPTORS, *columns], text=["side"])
+
+def _responses(responses_csv, irradiance_npz, receptor_set, columns=()):
+    """The responses table, the irradiance file, every receptor's catches (n, classes), and its catches
+    relative to white, map3 colour and map2 colour (:func:`beeoptics.images.display.bee_colours`)."""
+    resp = read_table(responses_csv, numeric=["id", *receptor_set.classes, *columns], text=["side"])
     data = np.load(irradiance_npz)
-    catches = np.column_stack([resp[r] for r in RECEPTORS])
-    return resp, data, bee_colours(catches, data["white_q"], data["wavelength_nm"], data["radiance"])
+    catches = np.column_stack([resp[r] for r in receptor_set.classes])
+    return resp, data, catches, bee_colours(catches, data["white_q"], data["wavelength_nm"], data["radiance"],
+                                            receptor_set.display)
 
 
 #: How each retinal image maps values to grey levels, for its caption.
@@ -35,23 +38,18 @@ _SURROUND = "Light grey: outside the eyes; black: a receptor that caught no ligh
 _WHITE = ("each catch over the catch of a white Lambertian surface under the scene's light (von Kries to "
           "white), so a white surface shows white; above 1 clipped; sRGB-encoded.")
 RETINAL_CAPTIONS = {
-    "voronoi_map3": f"map3 (Collins §4.4), each pixel its nearest receptor: red UV, green G, blue B, {_WHITE}",
+    "voronoi_map3": f"map3 (Collins §4.4), each pixel its nearest receptor: {{display}}, {_WHITE}",
     "voronoi_map2": "map2, each pixel its nearest receptor: the receptor's light in its human colour "
                     "(CIE 1931, sRGB), the 99.5th percentile of luminance shown white.",
     "density_map3": "map3 colours summed with a Gaussian kernel (σ: the median neighbour distance), the "
                     "99.5th percentile shown white: brightness follows receptor density (Collins Colour Plate 2).",
     "density_map3_normalised": "map3 colours, Gaussian kernel estimate divided by the kernel-spread receptor "
                                f"count (Nadaraya–Watson), {_WHITE}",
-    "channel_uv": "UV receptor catch over a white surface's under the scene's light, linear, 0 black, 1 white, "
-                  "above 1 clipped.",
-    "channel_b": "B receptor catch over a white surface's under the scene's light, linear, 0 black, 1 white, "
-                 "above 1 clipped.",
-    "channel_g": "G receptor catch over a white surface's under the scene's light, linear, 0 black, 1 white, "
-                 "above 1 clipped.",
 }
 
 
-def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, width_px=400, title=""):
+def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_set, width_px=400,
+                   title=""):
     """Voronoi, density and channel images of one eye in one scene, and the EXR of catches.
 
     The PNGs are figures: both eyes in the retinal plane in millimetres,
@@ -62,8 +60,7 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
     """
     eye = load_eye(eye_file)
     table = read_receptors(receptors_csv)
-    resp, _, (relative, colours, srgb) = _responses(responses_csv, irradiance_npz)
-    catches = np.column_stack([resp[r] for r in RECEPTORS])
+    _, _, catches, (relative, colours, srgb) = _responses(responses_csv, irradiance_npz, receptor_set)
     xy = retinal_plane(eye, table.position, table.side)
     can = canvas(xy, width_px)
     extents = panel_extents(can)
@@ -76,32 +73,40 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
         "density_map3": encode(dens, np.nanpercentile(dens, 99.5)),
         "density_map3_normalised": encode(density(can, xy, table.side, colours, normalise=True)),
     }
-    for k, name in enumerate(("channel_uv", "channel_b", "channel_g")):
-        shown[name] = np.clip(voronoi(can, xy, table.side, relative[:, k])[..., 0], 0.0, 1.0)
+    captions = {k: v.format(display=display_words(receptor_set)) for k, v in RETINAL_CAPTIONS.items()}
+    for k, name in enumerate(receptor_set.classes):
+        shown[channel(name)] = np.clip(voronoi(can, xy, table.side, relative[:, k])[..., 0], 0.0, 1.0)
+        captions[channel(name)] = (f"{name} receptor catch over a white surface's under the scene's light, linear, "
+                                   "0 black, 1 white, above 1 clipped.")
     for name, image in shown.items():
         figures.retina(image, extents, anterior, dorsal, outputs[name], f"{title}: {name.replace('_', ' ')}",
-                       f"{RETINAL_CAPTIONS[name]} {_SURROUND}",
+                       f"{captions[name]} {_SURROUND}",
                        "catch ÷ white's catch" if image.ndim == 2 else None)
-    write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table.side, catches), nan=0.0), RECEPTORS)
+    write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table.side, catches), nan=0.0), receptor_set.classes)
 
 
-def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, outputs, *, width_px=720):
+def display_words(receptor_set):
+    """map3's channels in words: "red UV, green G, blue B"."""
+    return ", ".join(f"{c} {receptor_set.classes[k]}" for c, k in zip(("red", "green", "blue"), receptor_set.display))
+
+
+def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, outputs, *, receptor_set,
+                      width_px=720):
     """Both eyes' visual field in azimuth and elevation, beside the human view.
 
     Writes ``figure`` (PNG: map3 and map2 on the sphere, the binocular
     overlap outlined, the human render beside them if ``human_png`` is given) and ``exr``
-    (equirectangular catches ``UV``, ``B``, ``G`` and ``eyes``, the bits of
-    the eyes that see each direction: 1 right, 2 left, 3 both; zero catches
-    where none sees).
+    (equirectangular catches of each receptor class, ``UV``, ``B``, ``G``
+    for a bee, and ``eyes``, the bits of the eyes that see each direction:
+    1 right, 2 left, 3 both; zero catches where none sees).
     """
     table = read_receptors(receptors_csv)
-    resp, _, (_, colours, srgb) = _responses(responses_csv, irradiance_npz)
-    catches = np.column_stack([resp[r] for r in RECEPTORS])
+    _, _, catches, (_, colours, srgb) = _responses(responses_csv, irradiance_npz, receptor_set)
     field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, width_px)
     seen = field.receptor >= 0
     panels = {
-        "bee colours (map3: UV→R, B→B, G→G, white = 1)": np.where(seen[..., None], encode(paint(field, colours)),
-                                                                  np.nan),
+        f"bee colours (map3: {display_words(receptor_set)}, white = 1)":
+            np.where(seen[..., None], encode(paint(field, colours)), np.nan),
         "human colours on the bee's geometry (map2)": paint(field, srgb),
     }
     human = None if human_png is None else read_image(human_png)[0][..., :3]
@@ -109,11 +114,11 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
                          "visual field of both eyes, equirectangular")
     painted = np.nan_to_num(paint(field, catches), nan=0.0)
     write_exr(outputs["exr"], np.concatenate([painted, field.eyes[..., None].astype(float)], -1),
-              (*RECEPTORS, "eyes"))
+              (*receptor_set.classes, "eyes"))
 
 
-def colour_figures(responses_csv, irradiance_npz, outputs, *, title="", receptor_curves=PEITSCH_1992):
-    """Every receptor's colour in the bee colour triangle and hexagon (Collins Fig. 5b).
+def colour_figures(responses_csv, irradiance_npz, outputs, *, receptor_set, title="", receptor_curves=SPECIES):
+    """Every receptor's colour in the bee colour triangle and hexagon (Collins Fig. 5b), those the set has.
 
     The spectral locus's lights are adapted to the same background as the
     receptors. In the triangle their intensity does not matter; in the
@@ -121,27 +126,35 @@ def colour_figures(responses_csv, irradiance_npz, outputs, *, title="", receptor
     centre (:func:`beeoptics.vision.colourspace.widest_spectral_locus`),
     relative to the photon flux of a white Lambertian surface under the
     scene's sky and sun, and the figure's legend states the range.
-    ``outputs`` maps ``triangle`` and ``hexagon`` to PNG paths.
+    ``outputs`` maps ``triangle`` and ``hexagon`` (as the set has them) to PNG paths.
     """
-    resp, data, (_, _, srgb) = _responses(responses_csv, irradiance_npz, ["tri_x", "tri_y", "hex_x", "hex_y"])
+    columns = [c for space, names in (("triangle", ["tri_x", "tri_y"]), ("hexagon", ["hex_x", "hex_y"]))
+               if space in outputs for c in names]
+    resp, data, _, (_, _, srgb) = _responses(responses_csv, irradiance_npz, receptor_set, columns)
     wl = data["wavelength_nm"]
     white = photon_flux(data["white_radiance"], wl).sum()
-    locus, intensity = colourspace.widest_spectral_locus(sensitivities(wl, receptor_curves), wl,
-                                                         data["background_q"], white)
-    figures.colour_space(np.column_stack([resp["tri_x"], resp["tri_y"]]), srgb, colourspace.TRIANGLE_VERTICES,
-                         (locus.wavelengths, locus.triangle), outputs["triangle"],
-                         f"{title}: receptor colours in the bee colour triangle",
-                         "spectral locus: monochromatic lights (any intensity)")
-    figures.colour_space(np.column_stack([resp["hex_x"], resp["hex_y"]]), srgb, colourspace.HEXAGON_OUTLINE,
-                         (locus.wavelengths, locus.hexagon), outputs["hexagon"],
-                         f"{title}: receptor colours in the colour hexagon (Chittka 1992)",
-                         "spectral locus: each monochromatic light at the intensity that puts it furthest out,\n"
-                         f"{intensity.min():.2g}–{intensity.max():.2g} × a white surface's photon flux "
-                         "under the scene's light")
+    colour = receptor_set.chromatic
+    locus, intensity = colourspace.widest_spectral_locus(curves(receptor_set, wl, receptor_curves)[:, colour], wl,
+                                                         data["background_q"][colour], white)
+    labels = [receptor_set.classes[k] for k in colour]
+    if "triangle" in outputs:
+        figures.colour_space(np.column_stack([resp["tri_x"], resp["tri_y"]]), srgb, colourspace.TRIANGLE_VERTICES,
+                             (locus.wavelengths, locus.triangle), outputs["triangle"],
+                             f"{title}: receptor colours in the bee colour triangle",
+                             "spectral locus: monochromatic lights (any intensity)", labels)
+    if "hexagon" in outputs:
+        figures.colour_space(np.column_stack([resp["hex_x"], resp["hex_y"]]), srgb, colourspace.HEXAGON_OUTLINE,
+                             (locus.wavelengths, locus.hexagon), outputs["hexagon"],
+                             f"{title}: receptor colours in the colour hexagon (Chittka 1992)",
+                             "spectral locus: each monochromatic light at the intensity that puts it furthest out,\n"
+                             f"{intensity.min():.2g}–{intensity.max():.2g} × a white surface's photon flux "
+                             "under the scene's light", labels)
 
 
-def sensitivity_figure(outputs, *, spectral, receptor_curves=PEITSCH_1992):
-    """Collins Fig. 6 and 5a, ``outputs["figure"]``: the receptor sensitivities and the overall S(λ)."""
+def sensitivity_figure(outputs, *, spectral, receptor_set, receptor_curves=SPECIES):
+    """Collins Fig. 6 and 5a, ``outputs["figure"]``: a receptor set's curves and, where it has one, its
+    overall S(λ)."""
     wl = grid(**spectral)
-    sens = sensitivities(wl, receptor_curves)
-    figures.sensitivities(wl, sens, overall_sensitivity(wl, sens), outputs["figure"], describe(receptor_curves))
+    sens = curves(receptor_set, wl, receptor_curves)
+    figures.sensitivities(wl, sens, receptor_set.classes, overall(receptor_set, wl, sens), outputs["figure"],
+                          describe(receptor_set, receptor_curves))

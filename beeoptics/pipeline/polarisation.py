@@ -31,7 +31,7 @@ from beeoptics.spectra import grid
 from beeoptics.vision import compass as sky_compass
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.polarisation import DORSAL_RIM_PS, degree_and_angle, head_frame_stokes, receptor_catch
-from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, sensitivities
+from beeoptics.vision.receptorset import SPECIES, curves
 
 #: The colour map of polarisation: hue the angle (0–180°, cyclic), saturation the degree, full value.
 POLARISATION_CAPTION = ("Polarisation each receptor sees, UV receptors' catch: hue is the angle of polarisation about "
@@ -48,20 +48,29 @@ def _dorsal_rim(table, source):
     return table.dorsal_rim.astype(bool)
 
 
-def stokes_catches(stokes, delta_rho_deg, wavelengths, receptor_curves=PEITSCH_1992):
+def stokes_catches(stokes, delta_rho_deg, wavelengths, receptor_set, receptor_curves=SPECIES):
     """Each receptor class's catch of the spectral Stokes vectors (n, 3, wl): (n, classes, 3), in their frame."""
-    sens = sensitivities(wavelengths, receptor_curves)
+    sens = curves(receptor_set, wavelengths, receptor_curves)
     irradiance = stokes * acceptance_solid_angle(delta_rho_deg)[:, None, None]
     return quantum_catches(irradiance, sens, wavelengths).transpose(0, 2, 1)
 
 
+def _analysers(receptor_set, source):
+    """The index of the class whose microvilli analyse polarisation in the dorsal rim (the bee's UV)."""
+    if receptor_set.polarisation is None:
+        raise InputError(source, "receptors", f"the receptor set {receptor_set.name!r} names no class that "
+                         "analyses polarisation (its polarisation section)")
+    return receptor_set.polarisation
+
+
 def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral, settings, dorsal_rim_ps,
-                      width_px=400, field_width_px=720, title="", receptor_curves=PEITSCH_1992):
+                      receptor_set, width_px=400, field_width_px=720, title="", receptor_curves=SPECIES):
     """Trace every receptor's Stokes vector; write the table and maps of the polarisation it sees.
 
     Outputs: ``table`` (CSV, one row per receptor: each class's catch of I,
-    Q and U in the eye's frame, degree, angle; the UV receptors' response
-    with their polarisation sensitivity; the dorsal rim's POL units),
+    Q and U in the eye's frame, degree, angle; the analysing class's (the
+    bee's UV receptors') response with their polarisation sensitivity; the
+    dorsal rim's POL units),
     ``field`` (the visual field, equirectangular), ``retina`` (the retinal
     plane) and ``dorsal_rim`` (the POL units where they look, with their
     microvilli), PNG figures.
@@ -76,27 +85,30 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
     scene = load_scene(scene_file, wl)
     table = read_receptors(receptors_csv)
     rim = _dorsal_rim(table, receptors_csv)
+    a = _analysers(receptor_set, eye_file)
     radiance, _ = trace_receptors(scene, table, 0, len(table.id), settings, len(wl), polarised=True)
-    catches = head_frame_stokes(stokes_catches(radiance, table.delta_rho_deg, wl, receptor_curves), table.axis)
+    catches = head_frame_stokes(stokes_catches(radiance, table.delta_rho_deg, wl, receptor_set, receptor_curves),
+                                table.axis)
     degree, angle = degree_and_angle(catches)
     degree = np.where(catches[..., 0] > 0.0, degree, 0.0)  # no light: none of it polarised
     microvilli = np.where(rim, table.microvilli_deg, 0.0)
-    uv = catches[:, 0]
+    uv = catches[:, a]
     pol = np.full(len(table.id), np.nan)
     pol[rim] = sky_compass.pol_responses(uv[rim], microvilli[rim], dorsal_rim_ps)
     columns = {"id": table.id, "side": table.side, "dorsal_rim": rim.astype(int),
                "microvilli_deg": np.where(rim, table.microvilli_deg, np.nan)}
-    for k, r in enumerate(RECEPTORS):
+    for k, r in enumerate(receptor_set.classes):
         columns.update({f"{r}_I": catches[:, k, 0], f"{r}_Q": catches[:, k, 1], f"{r}_U": catches[:, k, 2],
                         f"{r}_degree": degree[:, k], f"{r}_angle_deg": angle[:, k]})
-    columns["UV_response"] = receptor_catch(uv, microvilli, np.where(rim, dorsal_rim_ps, 1.0))
+    columns[f"{receptor_set.classes[a]}_response"] = receptor_catch(uv, microvilli, np.where(rim, dorsal_rim_ps, 1.0))
     columns["pol"] = pol
     write_table(outputs["table"], columns)
 
-    colours = polarisation_colours(degree[:, 0], angle[:, 0])
+    colours = polarisation_colours(degree[:, a], angle[:, a])
+    name = receptor_set.classes[a]
     field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, field_width_px)
-    panels = {"UV: angle (hue) and degree (saturation) of polarisation": paint(field, colours),
-              "UV: degree of polarisation": np.repeat(paint(field, degree[:, :1]), 3, -1)}
+    panels = {f"{name}: angle (hue) and degree (saturation) of polarisation": paint(field, colours),
+              f"{name}: degree of polarisation": np.repeat(paint(field, degree[:, a:a + 1]), 3, -1)}
     figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, None, outputs["field"],
                          f"{title}: polarisation over the visual field")
     eye = load_eye(eye_file)
@@ -112,7 +124,7 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
 
 
 def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=36, turbidities=(2.0, 3.0, 5.0, 8.0),
-            heights_m=(), dorsal_rim_ps=DORSAL_RIM_PS, title="", receptor_curves=PEITSCH_1992):
+            heights_m=(), dorsal_rim_ps=DORSAL_RIM_PS, receptor_set, title="", receptor_curves=SPECIES):
     """The sky compass of the dorsal rim over a full turn of the bee, in a scene, and as turbidity grows.
 
     The head turns about the vertical through ``headings`` evenly spaced
@@ -131,7 +143,8 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=
     table = read_receptors(receptors_csv)
     rim = _dorsal_rim(table, receptors_csv)
     turns = 360.0 * np.arange(headings) / headings
-    uv = sensitivities(wl, receptor_curves)[:, :1]
+    a = _analysers(receptor_set, receptors_csv)
+    uv = curves(receptor_set, wl, receptor_curves)[:, a:a + 1]
 
     def read(scene):
         rs = raycasting_scene(scene)

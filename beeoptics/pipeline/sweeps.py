@@ -21,7 +21,6 @@ import numpy as np
 
 from beeoptics.io.receptortable import read_receptors, write_receptors
 from beeoptics.io.table import read_table, write_table
-from beeoptics.vision.sensitivity import RECEPTORS
 
 #: Swept parameters and the short names that label variants.
 PARAMETERS = {"delta_rho_deg": "drho", "samples_per_receptor": "spp", "sun_elevation_deg": "sun"}
@@ -68,8 +67,9 @@ def with_delta_rho(receptors_csv, outputs, *, delta_rho_deg=None):
     write_receptors(outputs["receptors"], table)
 
 
-#: Columns of responses.csv summarised per sweep variant, eye and scene.
-SUMMARISED = (*RECEPTORS, "brightness", "hex_r", "rnl_dS")
+#: Columns of responses.csv summarised per sweep variant, eye and scene, besides each receptor class's catch,
+#: where the eye's receptor set has them.
+SUMMARISED = ("brightness", "hex_r", "rnl_dS")
 
 
 def sweep_summary(runs, outputs):
@@ -78,20 +78,24 @@ def sweep_summary(runs, outputs):
     Parameters
     ----------
     runs : list of dict
-        ``variant``, ``eye``, ``scene``, ``responses`` (path) and the
-        variant's parameter values, in the order the rows are written.
+        ``variant``, ``eye``, ``scene``, ``responses`` (path), ``classes``
+        (the eye's receptor classes) and the variant's parameter values, in
+        the order the rows are written.
 
     The responses are summarised by their mean and their 5th, 50th and 95th
-    percentiles over both eyes' receptors.
+    percentiles over both eyes' receptors; a column an eye's species lacks
+    (another species' receptor class, an RNL distance without published
+    noise) is empty in its rows.
     """
     rows = []
     for run in runs:
-        resp = read_table(run["responses"], numeric=list(SUMMARISED), text=["side"])
-        row = {k: v for k, v in run.items() if k != "responses"}
-        for name in SUMMARISED:
+        resp = read_table(run["responses"], numeric=list(run["classes"]), text=["side"])
+        row = {k: v for k, v in run.items() if k not in ("responses", "classes")}
+        for name in [*run["classes"], *(c for c in SUMMARISED if c in resp)]:
             row[f"{name}_mean"] = np.mean(resp[name])
             row.update({f"{name}_p{p}": np.percentile(resp[name], p) for p in (5, 50, 95)})
         rows.append(row)
     text = ("variant", "eye", "scene")
-    write_table(outputs["summary"], {k: [r[k] for r in rows] if k in text else np.array([r[k] for r in rows], float)
-                                     for k in rows[0]})
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    write_table(outputs["summary"], {k: [r[k] for r in rows] if k in text else
+                                     np.array([r.get(k, np.nan) for r in rows], float) for k in keys})

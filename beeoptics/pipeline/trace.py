@@ -18,7 +18,7 @@ from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background
 from beeoptics.light.batching import trace_bundles
 from beeoptics.light.integrator import trace_paths
-from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
+from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
 from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.logs import log
@@ -27,7 +27,7 @@ from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.colourspace import colour_coordinates
 from beeoptics.vision.human import srgb, tristimulus
-from beeoptics.vision.sensitivity import PEITSCH_1992, RECEPTORS, overall_sensitivity, sensitivities
+from beeoptics.vision.receptorset import SPECIES, curves, overall
 
 #: Percentile of the human view's luminance shown as white.
 HUMAN_WHITE_PERCENTILE = 99.0
@@ -76,6 +76,11 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
     drho = table.delta_rho_deg
     sigma = cone_sigma(drho)
     rs = raycasting_scene(scene) if rs is None else rs
+    met, back = back_faces_met(rs, origins[first:last], axes[first:last])
+    if back > met / 2:
+        log.warning("%.0f%% of the receptors whose axis meets a surface meet its back face (%d of %d): the eye "
+                    "may sit below the ground or inside a closed mesh; the scene's eye.position_m places it",
+                    100.0 * back / met, back, met)
     dorsal = scene.eye_rotation[:, 2]
     counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
@@ -105,8 +110,8 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
     return radiance, counts
 
 
-def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, background="scene", light=None,
-                     receptor_curves=PEITSCH_1992):
+def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, receptor_set, background="scene",
+                     light=None, receptor_curves=SPECIES):
     """Catches and colour-space coordinates of every receptor: ``outputs["responses"]`` and ``["irradiance"]``.
 
     Parameters
@@ -119,11 +124,13 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
         The adapting background of von Kries adaptation: ``"scene"``, the
         mean catch over both eyes, or the name of one of the scene's
         materials, as a Lambertian surface under the scene's sky and sun.
+    receptor_set : ReceptorSet
+        The eye's receptor classes (:mod:`beeoptics.vision.receptorset`).
     light : dict, optional
         Overrides of the scene's light section, as the trace had them.
     receptor_curves : str
-        The receptor sensitivities: the measured default, the template, or a CSV of measured curves
-        (:func:`beeoptics.vision.sensitivity.sensitivities`).
+        The receptor sensitivities: the species' own, the template, or a CSV of measured curves
+        (:func:`beeoptics.vision.receptorset.curves`).
     """
     wl = grid(**spectral)
     table = read_receptors(receptors_csv)
@@ -133,24 +140,26 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
         raise InputError(part_npzs[0], "id", "the traced shares do not cover the receptor table in order")
     scene = load_scene(scene_file, wl, light, geometry=False)
     columns, arrays = respond(table, np.concatenate([p["radiance"] for p in parts]), scene, wl, scene_file,
-                              background=background, receptor_curves=receptor_curves)
+                              receptor_set=receptor_set, background=background, receptor_curves=receptor_curves)
     write_table(outputs["responses"], columns)
     with atomic_path(outputs["irradiance"]) as tmp:
         np.savez(tmp, id=table.id, wavelength_nm=wl, **arrays)
 
 
-def respond(table, radiance, scene, wl, scene_file, *, background="scene", receptor_curves=PEITSCH_1992):
+def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background="scene", receptor_curves=SPECIES):
     """Every receptor's catches and colour coordinates from its spectral radiance (n, wavelengths) on the grid ``wl``.
 
-    Returns the responses table's columns (id, side, UV, B, G, brightness,
-    colour-space coordinates) and the arrays of the irradiance file:
+    Returns the responses table's columns (id, side, a catch per class of
+    ``receptor_set`` named as the set names it (UV, B, G for a bee), the
+    brightness where the set has an overall sensitivity, colour-space
+    coordinates) and the arrays of the irradiance file:
     ``radiance``, ``irradiance`` (float32), ``background_q`` (the adapting
     catches), ``white_radiance`` (a white Lambertian surface under the
     scene's sky and sun) and ``white_q`` (each receptor's catch of it,
     map3's unity). See :func:`gather_responses` for ``background``.
     """
     irradiance = radiance * acceptance_solid_angle(table.delta_rho_deg)[:, None]
-    sens = sensitivities(wl, receptor_curves)
+    sens = curves(receptor_set, wl, receptor_curves)
     catches = quantum_catches(irradiance, sens, wl)
     # Adaptation compares radiances: the acceptance solid angle cancels in every ratio.
     seen = quantum_catches(radiance, sens, wl)
@@ -166,10 +175,11 @@ def respond(table, radiance, scene, wl, scene_file, *, background="scene", recep
         raise InputError(scene_file, "colour.background",
                          f"the background {background!r} gives no catch in some receptor class; "
                          "von Kries adaptation needs a background every class sees")
-    overall = overall_sensitivity(wl, sens)
-    brightness = quantum_catches(irradiance, (overall / overall.sum())[:, None], wl)[:, 0]
-    columns = {"id": table.id, "side": table.side, **{r: catches[:, k] for k, r in enumerate(RECEPTORS)},
-               "brightness": brightness, **colour_coordinates(seen, reference)}
+    columns = {"id": table.id, "side": table.side, **{r: catches[:, k] for k, r in enumerate(receptor_set.classes)}}
+    brightness = overall(receptor_set, wl, sens)
+    if brightness is not None:
+        columns["brightness"] = quantum_catches(irradiance, (brightness / brightness.sum())[:, None], wl)[:, 0]
+    columns.update(colour_coordinates(seen, reference, receptor_set))
     # What each receptor would catch of the white surface: map3's unity.
     white_q = quantum_catches(white[None] * acceptance_solid_angle(table.delta_rho_deg)[:, None], sens, wl)
     return columns, {"radiance": radiance.astype(np.float32), "irradiance": irradiance.astype(np.float32),

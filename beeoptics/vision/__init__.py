@@ -1,5 +1,5 @@
-"""Vision: the receptors' spectral sensitivities, their catches, adaptation, the bee colour spaces,
-the human observer to compare with, receptors' polarisation sensitivity and the sky compass.
+"""Vision: each species' receptor set, the receptors' spectral sensitivities, their catches, adaptation, the
+bee colour spaces, the human observer to compare with, receptors' polarisation sensitivity and the sky compass.
 
 Names follow pavo's where pavo has the concept (Maia et al. 2019), so R users recognise them.
 """
@@ -7,9 +7,10 @@ Names follow pavo's where pavo has the concept (Maia et al. 2019), so R users re
 from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
-    "sensitivity": ("LAMBDA_MAX_APIS", "PEITSCH_1992", "RECEPTORS", "TEMPLATE", "describe", "govardovskii_a1",
-                    "measured_sensitivities",
-                    "overall_sensitivity", "receptor_sensitivities", "sensitivities"),
+    "sensitivity": ("govardovskii_a1", "measured_sensitivities", "overall_sensitivity",
+                    "receptor_sensitivities"),
+    "receptorset": ("DEFAULT_SET", "SPECIES", "TEMPLATE", "ReceptorSet", "curves", "describe", "load_receptor_set",
+                    "overall"),
     "catches": ("photon_flux", "quantum_catches"),
     "adaptation": ("background_catches",),
     "colourspace": ("colour_coordinates", "coc", "coc_distance", "excitation", "hexagon", "hexagon_polar",

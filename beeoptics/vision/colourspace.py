@@ -48,8 +48,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from beeoptics.vision.sensitivity import RECEPTORS
-
 #: Maxwell-triangle vertices (x, y) of pure UV, B and G catches: an
 #: equilateral triangle of side √2 centred on the achromatic point, UV at the
 #: top (Kelber et al. 2003; the vertices of pavo's x = (l − m)/√2,
@@ -89,11 +87,6 @@ COC_WEIGHTS = np.array([
 ])
 
 
-#: Receptor noise of the honey bee's UV, B and G receptors as Weber fractions,
-#: estimated from intracellular recordings (Vorobyev, Brandt, Peitsch,
-#: Laughlin & Menzel 2001, Vision Res 41:639–653); the values in wide use for
-#: Apis, e.g. in the examples of the R package colourvision (Gawryszewski 2018).
-BEE_WEBER = np.array([0.13, 0.06, 0.12])
 
 
 class SpectralLocus(NamedTuple):
@@ -365,25 +358,28 @@ def neural_noise(densities, weber, reference=-1):
 
 
 def rnl_distance(q1, q2, weber):
-    """Receptor-noise-limited colour distance ΔS of a trichromat, in just-noticeable differences.
+    """Receptor-noise-limited colour distance ΔS of n receptor classes, in just-noticeable differences.
 
     Receptor signals are log catches, f_i = ln q_i, so that the noise is a
-    constant Weber fraction e_i (Weber–Fechner), and
+    constant Weber fraction e_i (Weber–Fechner), and ΔS is the noise-weighted
+    length of Δf with its achromatic (common) component removed,
 
+    ΔS² = Δfᵀ (W − w wᵀ / Σw) Δf,  w_i = 1/e_i², W = diag(w),
+
+    which for a trichromat is Vorobyev & Osorio's
     ΔS² = [e_UV²(Δf_G − Δf_B)² + e_B²(Δf_G − Δf_UV)² + e_G²(Δf_UV − Δf_B)²]
-          / [(e_UV e_B)² + (e_UV e_G)² + (e_B e_G)²].
-
-    Scaling all catches of one stimulus by a common factor leaves ΔS
-    unchanged, and so does von Kries adaptation of both to one background.
+          / [(e_UV e_B)² + (e_UV e_G)² + (e_B e_G)²],
+    and for any n pavo's formula by subsets of receptors. Scaling all
+    catches of one stimulus by a common factor leaves ΔS unchanged, and so
+    does von Kries adaptation of both to one background.
 
     Parameters
     ----------
-    q1, q2 : array_like, shape (..., 3)
-        Quantum catches UV, B, G (raw or adapted, not excitations), all positive.
-    weber : array_like, shape (3,) or (..., 3)
-        Noise e_i of each receptor class as a Weber fraction, given per
-        class or from :func:`neural_noise`. No honey-bee values are built
-        in: the caller states and cites them.
+    q1, q2 : array_like, shape (..., n)
+        Quantum catches of the colour classes (raw or adapted, not excitations), all positive.
+    weber : array_like, shape (n,) or (..., n)
+        Noise e_i of each class as a Weber fraction, given per class or
+        from :func:`neural_noise`; a species' receptor set states and cites them.
 
     Returns
     -------
@@ -396,11 +392,10 @@ def rnl_distance(q1, q2, weber):
     Maia et al. (2019), ``coldist(noise = "neural")``.
     """
     df = np.log(np.asarray(q1, float)) - np.log(np.asarray(q2, float))
-    e2 = np.asarray(weber, float) ** 2
-    uv, b, g = df[..., 0], df[..., 1], df[..., 2]
-    numerator = e2[..., 0] * (g - b) ** 2 + e2[..., 1] * (g - uv) ** 2 + e2[..., 2] * (uv - b) ** 2
-    denominator = e2[..., 0] * e2[..., 1] + e2[..., 0] * e2[..., 2] + e2[..., 1] * e2[..., 2]
-    return np.sqrt(numerator / denominator)
+    w = 1.0 / np.asarray(weber, float) ** 2
+    # Δfᵀ(W − w wᵀ/Σw)Δf as Σ w (Δf − Δf̄)², Δf̄ the noise-weighted mean: no cancellation when ΔS is small.
+    mean = (w * df).sum(-1, keepdims=True) / w.sum(-1, keepdims=True)
+    return np.sqrt((w * (df - mean) ** 2).sum(-1))
 
 
 def spectral_locus(sensitivities, wavelengths, background_q, flux):
@@ -479,30 +474,34 @@ def widest_spectral_locus(sensitivities, wavelengths, background_q, flux):
     return SpectralLocus(loci[0].wavelengths, loci[0].triangle, widest), LOCUS_INTENSITIES[best]
 
 
-def colour_coordinates(q, background_q, weber=BEE_WEBER):
+def colour_coordinates(q, background_q, receptor_set):
     """Every colour-space coordinate of a set of catches, as named columns.
 
-    A receptor that caught no light (every class's catch zero, as when it
-    looks into the black below a sky-only scene) has no colour: its
-    coordinates are NaN (empty fields in a CSV) and ``lit`` is 0.
+    The coordinates that apply to the species (its receptor set: the
+    triangle, the hexagon and the COC for the honey bee, the triangle and
+    hexagon for a trichromat, the RNL distance wherever its receptor noise is
+    published) of the classes its colour vision compares. A receptor that
+    caught no light (every class's catch zero, as when it looks into the
+    black below a sky-only scene) has no colour: its coordinates are NaN
+    (empty fields in a CSV) and ``lit`` is 0.
 
     Parameters
     ----------
-    q : array_like, shape (n, 3)
-        Quantum catches UV, B, G, in the units of ``background_q``.
-    background_q : array_like, shape (3,) or (n, 3)
+    q : array_like, shape (n, classes)
+        Quantum catches of every class of the set, in the units of ``background_q``.
+    background_q : array_like, shape (classes,) or (n, classes)
         Catches of the adapting background.
-    weber : array_like, shape (3,)
-        Receptor noise for the RNL distance from the background.
+    receptor_set : ReceptorSet
+        :mod:`beeoptics.vision.receptorset`.
 
     Returns
     -------
     dict of ndarray (n,)
-        ``lit`` (1 where the receptor caught light, else 0), ``q_UV, q_B,
-        q_G`` (von Kries), ``E_UV, E_B, E_G``, ``hex_x, hex_y, hex_hue_deg,
-        hex_r``, ``coc_A, coc_B``, ``tri_x, tri_y`` (of the adapted catches,
-        so the background is at the centre) and ``rnl_dS`` (JND from the
-        background).
+        ``lit`` (1 where the receptor caught light, else 0), ``q_<class>``
+        (von Kries) and ``E_<class>`` of every class; where they apply
+        ``hex_x, hex_y, hex_hue_deg, hex_r``, ``coc_A, coc_B``, ``tri_x,
+        tri_y`` (of the adapted catches, so the background is at the centre)
+        and ``rnl_dS`` (JND from the background).
     """
     q = np.asarray(q, float)
     lit = (q > 0.0).any(axis=-1)
@@ -510,14 +509,20 @@ def colour_coordinates(q, background_q, weber=BEE_WEBER):
     adapted = np.full(q.shape, np.nan)
     adapted[lit] = von_kries(q[lit], np.broadcast_to(background_q, q.shape)[lit])
     e = excitation(adapted)
-    hexagon_xy = hexagon(e)
-    hue, r = hexagon_polar(hexagon_xy)
-    a_b = coc(e)
-    tri = triangle(adapted)
     columns = {"lit": lit.astype(int)}
-    columns.update({f"q_{k}": adapted[:, i] for i, k in enumerate(RECEPTORS)})
-    columns.update({f"E_{k}": e[:, i] for i, k in enumerate(RECEPTORS)})
-    columns.update(hex_x=hexagon_xy[:, 0], hex_y=hexagon_xy[:, 1], hex_hue_deg=hue, hex_r=r,
-                   coc_A=a_b[:, 0], coc_B=a_b[:, 1], tri_x=tri[:, 0], tri_y=tri[:, 1],
-                   rnl_dS=rnl_distance(adapted, np.ones(3), weber))
+    columns.update({f"q_{k}": adapted[:, i] for i, k in enumerate(receptor_set.classes)})
+    columns.update({f"E_{k}": e[:, i] for i, k in enumerate(receptor_set.classes)})
+    colour = receptor_set.chromatic
+    if "hexagon" in receptor_set.spaces:
+        hexagon_xy = hexagon(e[:, colour])
+        hue, r = hexagon_polar(hexagon_xy)
+        columns.update(hex_x=hexagon_xy[:, 0], hex_y=hexagon_xy[:, 1], hex_hue_deg=hue, hex_r=r)
+    if "coc" in receptor_set.spaces:
+        a_b = coc(e[:, colour])
+        columns.update(coc_A=a_b[:, 0], coc_B=a_b[:, 1])
+    if "triangle" in receptor_set.spaces:
+        tri = triangle(adapted[:, colour])
+        columns.update(tri_x=tri[:, 0], tri_y=tri[:, 1])
+    if receptor_set.weber is not None:
+        columns["rnl_dS"] = rnl_distance(adapted[:, colour], np.ones(len(colour)), receptor_set.weber)
     return columns

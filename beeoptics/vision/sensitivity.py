@@ -1,21 +1,23 @@
-"""Spectral sensitivities of the honey bee's photoreceptors.
+"""Spectral sensitivities of photoreceptors: the A1 visual-pigment template and measured curves.
 
-By default the three receptor classes, UV, blue and green, have the curves
-Peitsch et al. (1992) measured, as pavo ships them (``sensdata(visual =
-"apis")``; the package's ``vision/data/apis_sensitivity_peitsch1992.csv``).
-The option ``govardovskii`` models them instead with the A1 visual-pigment
-template of Govardovskii et al. (2000), α and β bands, at the peak
-wavelengths Peitsch et al. measured: 344, 436 and 544 nm. The template
-puts 0.2 % of the UV receptor's sensitivity above 400 nm, the measured
-curve 6 %; under daylight, which rises steeply there, that shifts hues. As
-in pavo's ``sensmodel`` each curve sums to one over the grid ("integrate").
+A receptor class's curve is either measured (a table in pavo's layout:
+a wavelength column, then one column per class) or modelled with the A1
+visual-pigment template of Govardovskii et al. (2000), α and β bands, at
+the class's measured peak wavelength λmax. As in pavo's ``sensmodel`` each
+curve sums to one over the grid ("integrate"). Which classes a species
+has, and which curves it uses, is the species' receptor set
+(:mod:`beeoptics.vision.receptorset`).
 
-The overall spectral sensitivity of the light-adapted bee, S(λ), which
-Collins (§3.2, Fig. 5a) takes from von Helversen (1972), has peaks near 345,
-440 and 550 nm in the ratio 16 : 2.7 : 1. It is modelled here as the
-weighted sum of the three receptor curves whose values at those three
-wavelengths stand in that ratio: a parametric stand-in for the behavioural
-curve, which we have not seen tabulated.
+For the honey bee, the template puts 0.2 % of the UV receptor's
+sensitivity above 400 nm, Peitsch et al.'s (1992) measured curve 6 %;
+under daylight, which rises steeply there, that shifts hues.
+
+The overall spectral sensitivity of the light-adapted honey bee, S(λ),
+which Collins (§3.2, Fig. 5a) takes from von Helversen (1972), has peaks
+near 345, 440 and 550 nm in the ratio 16 : 2.7 : 1. It is modelled here as
+the weighted sum of the receptor curves whose values at those wavelengths
+stand in that ratio (:func:`overall_sensitivity`): a parametric stand-in
+for the behavioural curve, which we have not seen tabulated.
 
 References
 ----------
@@ -30,21 +32,10 @@ Maia R, Gruson H, Endler JA, White TE (2019) pavo 2. Methods Ecol Evol
 10:1097–1107.
 """
 
-from pathlib import Path
-
 import numpy as np
 
 from beeoptics.io.errors import InputError
 from beeoptics.spectra import read_pavo_csv
-
-#: The receptor classes, shortest first.
-RECEPTORS = ("UV", "B", "G")
-#: Peak wavelengths of the honey bee's receptors, nm (Peitsch et al. 1992).
-LAMBDA_MAX_APIS = (344.0, 436.0, 544.0)
-#: Peaks of the light-adapted overall sensitivity, nm, and their relative
-#: heights (von Helversen 1972, as given by Collins §3.2).
-HELVERSEN_PEAKS_NM = (345.0, 440.0, 550.0)
-HELVERSEN_RATIO = (16.0, 2.7, 1.0)
 
 
 def govardovskii_a1(wavelengths, lambda_max, beta=True):
@@ -75,74 +66,60 @@ def govardovskii_a1(wavelengths, lambda_max, beta=True):
     return s
 
 
-def receptor_sensitivities(wavelengths, lambda_max=LAMBDA_MAX_APIS):
-    """Receptor curves on a grid, shape (len(wavelengths), 3), each summing to one (pavo's convention)."""
+def receptor_sensitivities(wavelengths, lambda_max):
+    """Template curves at the peaks ``lambda_max`` (nm), shape (len(wavelengths), k), each summing to one."""
     s = np.column_stack([govardovskii_a1(wavelengths, lm) for lm in lambda_max])
     s /= s.max(axis=0)
     return s / s.sum(axis=0)
 
 
-#: The config's name for the template curves, as against a CSV of measured ones.
-TEMPLATE = "govardovskii"
-#: The config's name for the measured curves of Peitsch et al. (1992) the package ships: the default.
-PEITSCH_1992 = "peitsch1992"
-#: Where those curves are, in pavo's layout (source in the folder's README).
-PEITSCH_1992_FILE = Path(__file__).parent / "data" / "apis_sensitivity_peitsch1992.csv"
+def measured_sensitivities(path, wavelengths, classes, lambda_max=None):
+    """Receptor curves from a CSV in pavo's layout, one column per class in order, each summing to one.
 
-
-def sensitivities(wavelengths, source=PEITSCH_1992):
-    """The receptor curves a config names: :data:`PEITSCH_1992`, :data:`TEMPLATE`, or the path of a pavo CSV."""
-    if source == TEMPLATE:
-        return receptor_sensitivities(wavelengths)
-    return measured_sensitivities(PEITSCH_1992_FILE if source == PEITSCH_1992 else source, wavelengths)
-
-
-def describe(source):
-    """A receptor-curve setting in words, for figures."""
-    if source == TEMPLATE:
-        return f"Govardovskii A1 template, λmax {'/'.join(f'{lam:g}' for lam in LAMBDA_MAX_APIS)} nm"
-    if source == PEITSCH_1992:
-        return "measured, Peitsch et al. (1992), as in pavo"
-    return f"measured, {Path(source).name}"
-
-
-def measured_sensitivities(path, wavelengths):
-    """Receptor curves from a CSV in pavo's layout (columns UV, B, G in that order), summing to one.
+    Parameters
+    ----------
+    classes : sequence of str
+        The receptor classes the columns must be, in order (their names are
+        not required to match: pavo names them ``apis.s``, ``apis.m``, ...).
+    lambda_max : sequence of float, optional
+        The classes' peaks, nm: the columns' peaks must come in the same order.
 
     Raises
     ------
     InputError
-        If the file does not hold three receptor columns, a column is zero
-        everywhere, or the columns' peaks are not in the order UV, B, G;
-        and as :func:`~beeoptics.spectra.read_pavo_csv` does.
+        If the file does not hold a column per class, a column is zero
+        everywhere, or the columns' peaks are not in the order of the
+        classes' λmax; and as :func:`~beeoptics.spectra.read_pavo_csv` does.
     """
     names, wl, values = read_pavo_csv(path, wavelengths)
-    if len(names) != 3:
-        raise InputError(path, ", ".join(names), f"expected three receptor columns (UV, B, G), found {len(names)}")
+    if len(names) != len(classes):
+        raise InputError(path, ", ".join(names), f"expected {len(classes)} receptor columns "
+                         f"({', '.join(classes)}), found {len(names)}")
     for j, name in enumerate(names):
         if not values[:, j].max() > 0.0:
             raise InputError(path, name, "is zero everywhere on the grid; a receptor must be sensitive somewhere")
-    peaks = wl[np.argmax(values, axis=0)]
-    for j in (1, 2):
-        if peaks[j] <= peaks[j - 1]:
-            raise InputError(
-                path, names[j],
-                f"peaks at {peaks[j]:g} nm, not beyond {names[j - 1]} ({peaks[j - 1]:g} nm); "
-                "the columns must be UV, B, G, shortest peak first",
-            )
+    if lambda_max is not None:
+        peaks = wl[np.argmax(values, axis=0)]
+        order = np.argsort(lambda_max, kind="stable")
+        for before, after in zip(order[:-1], order[1:]):
+            if peaks[after] <= peaks[before]:
+                raise InputError(
+                    path, names[after],
+                    f"peaks at {peaks[after]:g} nm, not beyond {names[before]} ({peaks[before]:g} nm); the columns "
+                    f"must be {', '.join(classes)}, whose peaks lie at {', '.join(f'{v:g}' for v in lambda_max)} nm",
+                )
     return values / values.sum(axis=0)
 
 
-def overall_sensitivity(wavelengths, receptors=None):
+def overall_sensitivity(wavelengths, receptors, peaks_nm, ratio):
     """The light-adapted overall spectral sensitivity S(λ), its largest value one.
 
-    The weighted sum of the receptor curves whose values at 345, 440 and
-    550 nm stand as 16 : 2.7 : 1 (von Helversen 1972).
+    The weighted sum of the receptor curves (n, k) whose values at the
+    ``peaks_nm`` (k,) stand as ``ratio`` (for the honey bee 345, 440 and
+    550 nm and 16 : 2.7 : 1, von Helversen 1972).
     """
     wl = np.asarray(wavelengths, float)
-    if receptors is None:
-        receptors = receptor_sensitivities(wl)
-    at_peaks = np.column_stack([np.interp(HELVERSEN_PEAKS_NM, wl, receptors[:, k]) for k in range(3)])
-    weights = np.linalg.solve(at_peaks, np.asarray(HELVERSEN_RATIO))
+    at_peaks = np.column_stack([np.interp(peaks_nm, wl, receptors[:, k]) for k in range(receptors.shape[1])])
+    weights = np.linalg.solve(at_peaks, np.asarray(ratio, float))
     s = receptors @ weights
     return s / s.max()

@@ -126,31 +126,13 @@ def generate(meadow, source="meadow.yaml"):
 
 
 def write_ply(path, mesh, face_colours):
-    """Write the mesh as binary PLY, each face's colour on its own corners, with pymeshlab, atomically.
-
-    The colours go on vertices, not faces: meshio 5.3.5, which checks every
-    mesh before pymeshlab reads it, misreads binary PLY faces that carry
-    properties besides their corners. A vertex shared by faces of two
-    colours (where a ray floret's base meets its tip) is split in two, so
-    that each face's corners agree, which is how the scene reads them.
-    """
-    # One key per (vertex, colour) pair; colours take 24 bits.
-    corners = (mesh.faces.ravel().astype(np.int64) << 24) | np.repeat(_colour_keys(face_colours), 3)
-    unique, inverse = np.unique(corners, return_inverse=True)
-    vertices = mesh.vertices[unique >> 24]
-    rgba = np.column_stack([np.repeat(face_colours, 3, axis=0)[np.unique(inverse, return_index=True)[1]] / 255.0,
-                            np.ones(len(unique))])
+    """Write the mesh as binary PLY with a colour per face, as MeshLab does, with pymeshlab, atomically."""
+    rgba = np.column_stack([np.asarray(face_colours, float) / 255.0, np.ones(len(face_colours))])
     ms = pymeshlab.MeshSet()
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=inverse.reshape(-1, 3), v_color_matrix=rgba))
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=mesh.vertices, face_matrix=mesh.faces, f_color_matrix=rgba))
     with atomic_path(path) as tmp:
-        ms.save_current_mesh(str(tmp), binary=True, save_vertex_color=True, save_face_color=False,
+        ms.save_current_mesh(str(tmp), binary=True, save_vertex_color=False, save_face_color=True,
                              save_vertex_quality=False, save_face_quality=False)
-
-
-def _colour_keys(colours):
-    """One integer per colour (m, 3) uint8."""
-    c = colours.astype(np.int64)
-    return (c[:, 0] << 16) | (c[:, 1] << 8) | c[:, 2]
 
 
 def read_meadow(path):

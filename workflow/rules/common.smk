@@ -1,18 +1,37 @@
 # Paths, wildcards and targets shared by the stages.
 
+import sys
 from pathlib import Path
 
+from beeoptics.io.errors import InputError
 from beeoptics.pipeline import sweeps
-from beeoptics.pipeline.outputs import COLOUR_FIGURES, FIELD_MAPS, IMAGES as RETINAL_IMAGES
+from beeoptics.pipeline.outputs import FIELD_MAPS, colour_figures, retinal_images
 from beeoptics.pipeline.flights import shares
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
-from beeoptics.vision.sensitivity import PEITSCH_1992, TEMPLATE
+from beeoptics.vision.receptorset import SPECIES, TEMPLATE, receptor_set_of
 
 EYES_DIR = Path(config["eyes_dir"])
 SCENES_DIR = Path(config["scenes_dir"])
 
-# Images written for every eye and scene: the retinal plane's, the visual field's, the colour spaces'.
-IMAGES = [*RETINAL_IMAGES.values(), *FIELD_MAPS.values(), *COLOUR_FIGURES.values()]
+
+def named_eyes():
+    """Every eye class the config names: in the run, its sweeps, flights and polarisation."""
+    return list(dict.fromkeys([*config["eyes"], *(e for s in config["sweeps"].values() for e in s["eyes"]),
+                               *(e for f in config["flights"].values() for e in f["eyes"]),
+                               *config["polarisation"]["eyes"]]))
+
+
+# Each eye's receptor set (its eye.yaml's receptors), which decides the columns and images of its outputs.
+try:
+    RECEPTOR_SETS = {eye: receptor_set_of(EYES_DIR / eye / "eye.yaml") for eye in named_eyes()}
+except InputError as e:
+    sys.exit(f"beeoptics: error: {e}")
+
+
+def eye_images(eye):
+    """The images written for an eye in every scene: the retinal plane's, the visual field's, the colour spaces'."""
+    rs = RECEPTOR_SETS[eye]
+    return [*retinal_images(rs).values(), *FIELD_MAPS.values(), *colour_figures(rs).values()]
 
 
 wildcard_constraints:
@@ -44,10 +63,17 @@ def scene_sources(wildcards):
     return scene_files(wildcards.scene)
 
 
-def sensitivity_files(wildcards=None):
-    """A CSV of measured receptor curves is an input: editing it reruns what uses it."""
+def eye_file(wildcards):
+    return EYES_DIR / wildcards.eye / "eye.yaml"
+
+
+def sensitivity_files(wildcards):
+    """The eye's eye.yaml (which names its receptor set), the set's file and curves, and a CSV of curves the
+    config names: editing any reruns what uses them."""
+    rs = RECEPTOR_SETS[wildcards.eye]
     curves = config["colour"]["sensitivities"]
-    return [] if curves in (TEMPLATE, PEITSCH_1992) else [curves]
+    return [str(eye_file(wildcards)), str(rs.path), *([str(rs.curves_file)] if rs.curves_file else []),
+            *([] if curves in (SPECIES, TEMPLATE) else [curves])]
 
 
 def trace_parts(wildcards):
@@ -66,13 +92,10 @@ def all_targets():
         "results/eyes/{eye}/figures/{name}.png",
         eye=config["eyes"],
         name=["relaxation", "delta_phi", "facet_diameter", "acceptance", "field_of_view"],
-    ) + ["results/eyes/acuity.csv", "results/figures/sensitivities.png"]
-    views = expand(
-        "results/{eye}/{scene}/{name}",
-        eye=config["eyes"],
-        scene=config["scenes"],
-        name=["responses.csv", "irradiance.npz"] + IMAGES,
-    )
+    ) + ["results/eyes/acuity.csv"] + [f"results/figures/sensitivities/{name}.png"
+                                       for name in dict.fromkeys(RECEPTOR_SETS[e].name for e in config["eyes"])]
+    views = [f"results/{eye}/{scene}/{name}" for eye in config["eyes"] for scene in config["scenes"]
+             for name in ["responses.csv", "irradiance.npz", *eye_images(eye)]]
     humans = expand("results/scenes/{scene}/human.{ext}", scene=config["scenes"], ext=["png", "exr"])
     summaries = expand("results/sweeps/{sweep}/summary.csv", sweep=list(config["sweeps"]))
     flights = [f"results/flights/{name}/{eye}/{product}" for name, flight in config["flights"].items()

@@ -60,11 +60,13 @@ rule eye_figures:
 
 rule acuity:
     input:
-        expand("results/eyes/{eye}/receptors.csv", eye=config["eyes"]),
+        receptors=expand("results/eyes/{eye}/receptors.csv", eye=config["eyes"]),
+        eyes=expand(str(EYES_DIR / "{eye}" / "eye.yaml"), eye=config["eyes"]),
     output:
         acuity=report("results/eyes/acuity.csv", caption="../report/acuity.rst", category="Eyes"),
     params:
         eyes=config["eyes"],
+        eye_files=expand(str(EYES_DIR / "{eye}" / "eye.yaml"), eye=config["eyes"]),
         width_px=config["images"]["visual_field_width_px"],
     log:
         "results/logs/acuity.log",
@@ -72,15 +74,22 @@ rule acuity:
         "../scripts/acuity.py"
 
 
+def receptor_set_named(wildcards):
+    return next(rs for rs in RECEPTOR_SETS.values() if rs.name == wildcards.receptor_set)
+
+
 rule sensitivities:
     input:
-        sensitivity_files(),
+        lambda w: [str(receptor_set_named(w).path)] + ([str(receptor_set_named(w).curves_file)]
+                                                      if receptor_set_named(w).curves_file else []),
     output:
-        figure=report("results/figures/sensitivities.png", caption="../report/sensitivities.rst", category="Receptors"),
+        figure=report("results/figures/sensitivities/{receptor_set}.png", caption="../report/sensitivities.rst",
+                      category="Receptors"),
     params:
         spectral=config["spectral"],
+        receptor_set=receptor_set_named,
         receptor_curves=config["colour"]["sensitivities"],
     log:
-        "results/logs/sensitivities.log",
+        "results/logs/sensitivities/{receptor_set}.log",
     script:
         "../scripts/sensitivities.py"

@@ -86,6 +86,7 @@ rule flight:
         flow_figure=report("results/flights/{flight}/{eye}/optic_flow.png", caption="../report/optic_flow.rst",
                            category="Flights", subcategory="{flight}"),
     params:
+        eye=eye_file,
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
         fps=lambda w: config["flights"][w.flight]["fps"],

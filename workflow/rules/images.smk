@@ -1,34 +1,51 @@
 # Images of what each eye saw, one job per eye and scene: Voronoi, density and channel images in
-# the retinal plane, the visual field beside the human view, and the colour-space figures.
+# the retinal plane, the visual field beside the human view, and the colour-space figures. What an
+# eye's images are depends on its receptor set (a channel image per class, the colour spaces it
+# has), so there is one rule per receptor set among the run's eyes, each for those eyes only.
+
+RETINAL_CAPTIONS = {"voronoi_map3": "voronoi_map3", "voronoi_map2": "voronoi_map2", "density_map3": "density_map3",
+                    "density_map3_normalised": "density_map3_normalised"}
 
 
-rule images:
-    input:
-        eye=eye_sources,
-        receptors="results/eyes/{eye}/receptors.csv",
-        responses="results/{eye}/{scene}/responses.csv",
-        irradiance="results/{eye}/{scene}/irradiance.npz",
-        human="results/scenes/{scene}/human.png",
-        curves=sensitivity_files,
-    output:
-        voronoi_map3=report("results/{eye}/{scene}/voronoi_map3.png", caption="../report/voronoi_map3.rst", category="Retinal images", subcategory="{eye} in {scene}"),
-        voronoi_map2=report("results/{eye}/{scene}/voronoi_map2.png", caption="../report/voronoi_map2.rst", category="Retinal images", subcategory="{eye} in {scene}"),
-        density_map3=report("results/{eye}/{scene}/density_map3.png", caption="../report/density_map3.rst", category="Retinal images", subcategory="{eye} in {scene}"),
-        density_map3_normalised=report("results/{eye}/{scene}/density_map3_normalised.png", caption="../report/density_map3_normalised.rst", category="Retinal images", subcategory="{eye} in {scene}"),
-        channel_uv=report("results/{eye}/{scene}/channel_uv.png", caption="../report/channel.rst", category="Retinal images", subcategory="{eye} in {scene}"),
-        channel_b=report("results/{eye}/{scene}/channel_b.png", caption="../report/channel.rst", category="Retinal images", subcategory="{eye} in {scene}"),
-        channel_g=report("results/{eye}/{scene}/channel_g.png", caption="../report/channel.rst", category="Retinal images", subcategory="{eye} in {scene}"),
-        exr="results/{eye}/{scene}/catches.exr",
-        figure=report("results/{eye}/{scene}/visual_field.png", caption="../report/visual_field.rst", category="Visual field", subcategory="{eye} in {scene}"),
-        field_exr="results/{eye}/{scene}/visual_field.exr",
-        triangle=report("results/{eye}/{scene}/triangle.png", caption="../report/colour_space.rst", category="Colour spaces", subcategory="{eye} in {scene}"),
-        hexagon=report("results/{eye}/{scene}/hexagon.png", caption="../report/colour_space.rst", category="Colour spaces", subcategory="{eye} in {scene}"),
-    params:
-        eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
-        width_px=config["images"]["width_px"],
-        field_width_px=config["images"]["visual_field_width_px"],
-        receptor_curves=config["colour"]["sensitivities"],
-    log:
-        "results/logs/images/{eye}/{scene}.log",
-    script:
-        "../scripts/images.py"
+def image_outputs(receptor_set):
+    """The images rule's outputs for the eyes of a receptor set, marked for the report."""
+    base = "results/{eye}/{scene}/"
+    retinal = {"category": "Retinal images", "subcategory": "{eye} in {scene}"}
+    out = {name: report(base + file, caption=f"../report/{RETINAL_CAPTIONS.get(name, 'channel')}.rst", **retinal)
+           for name, file in retinal_images(receptor_set).items() if name != "exr"}
+    out["exr"] = base + "catches.exr"
+    out["figure"] = report(base + FIELD_MAPS["figure"], caption="../report/visual_field.rst",
+                           category="Visual field", subcategory="{eye} in {scene}")
+    out["field_exr"] = base + FIELD_MAPS["exr"]
+    out.update({name: report(base + file, caption="../report/colour_space.rst", category="Colour spaces",
+                             subcategory="{eye} in {scene}")
+                for name, file in colour_figures(receptor_set).items()})
+    return out
+
+
+for set_name in dict.fromkeys(rs.name for rs in RECEPTOR_SETS.values()):
+    set_eyes = [e for e, rs in RECEPTOR_SETS.items() if rs.name == set_name]
+
+    rule:
+        name:
+            f"images_{set_name}"
+        input:
+            eye=eye_sources,
+            receptors="results/eyes/{eye}/receptors.csv",
+            responses="results/{eye}/{scene}/responses.csv",
+            irradiance="results/{eye}/{scene}/irradiance.npz",
+            human="results/scenes/{scene}/human.png",
+            curves=sensitivity_files,
+        output:
+            **image_outputs(RECEPTOR_SETS[set_eyes[0]]),
+        wildcard_constraints:
+            eye="|".join(set_eyes),
+        params:
+            eye=eye_file,
+            width_px=config["images"]["width_px"],
+            field_width_px=config["images"]["visual_field_width_px"],
+            receptor_curves=config["colour"]["sensitivities"],
+        log:
+            "results/logs/images/{eye}/{scene}.log",
+        script:
+            "../scripts/images.py"

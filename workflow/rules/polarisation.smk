@@ -39,6 +39,7 @@ rule compass:
         summary="results/{eye}/{scene}/polarisation/compass.json",
         figure=report("results/{eye}/{scene}/polarisation/compass.png", caption="../report/compass.rst", category="Polarisation", subcategory="{eye} in {scene}"),
     params:
+        eye=eye_file,
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         trace=config["trace"],

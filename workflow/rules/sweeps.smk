@@ -16,7 +16,7 @@ def sweep_parts(wildcards):
 def sweep_runs(name):
     """Every variant × eye × scene of a sweep, in a fixed order, as the summary lists them."""
     sweep = config["sweeps"][name]
-    return [{"variant": v, "eye": e, "scene": s, **chosen,
+    return [{"variant": v, "eye": e, "scene": s, **chosen, "classes": list(RECEPTOR_SETS[e].classes),
              "responses": f"results/sweeps/{name}/{v}/{e}/{s}/responses.csv"}
             for v, chosen in sweeps.variants(sweep).items() for e in sweep["eyes"] for s in sweep["scenes"]]
 
@@ -59,6 +59,7 @@ use rule gather as sweep_gather with:
         responses="results/sweeps/{sweep}/{variant}/{eye}/{scene}/responses.csv",
         irradiance="results/sweeps/{sweep}/{variant}/{eye}/{scene}/irradiance.npz",
     params:
+        eye=eye_file,
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         background=config["colour"]["background"],

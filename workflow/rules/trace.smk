@@ -33,6 +33,7 @@ rule gather:
         responses="results/{eye}/{scene}/responses.csv",
         irradiance="results/{eye}/{scene}/irradiance.npz",
     params:
+        eye=eye_file,
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         background=config["colour"]["background"],

@@ -1,4 +1,5 @@
 from beeoptics.light.batching import TraceSettings
+from beeoptics.vision.receptorset import receptor_set_of
 from beeoptics.pipeline.logs import logging_to
 from beeoptics.vision.polarisation import analyser_ps
 from beeoptics.pipeline.polarisation import compass
@@ -10,4 +11,4 @@ with logging_to(snakemake.log[0]):
             headings=pol["compass"]["headings"], turbidities=pol["compass"]["turbidities"],
             heights_m=pol["compass"]["heights_m"],
             dorsal_rim_ps=analyser_ps(pol["dorsal_rim_ps"]), title=f"{snakemake.wildcards.eye} in {snakemake.wildcards.scene}",
-            receptor_curves=snakemake.params.receptor_curves)
+            receptor_set=receptor_set_of(snakemake.params.eye), receptor_curves=snakemake.params.receptor_curves)
