@@ -21,9 +21,9 @@ import numpy as np
 from tqdm import tqdm
 
 from beeoptics import __version__
-from beeoptics.headframe import SIDES
+from beeoptics.headframe import SIDES, eye_azimuth_elevation
 from beeoptics.io.errors import InputError
-from beeoptics.io.receptortable import MEASURES, read_receptors, write_receptors
+from beeoptics.io.receptortable import MEASURES, read_receptors, rows_of, write_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
 from beeoptics.pipeline.outputs import COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES, colour_figures, retinal_images
 
@@ -66,7 +66,8 @@ SETTINGS = {
     ],
     "daylight": GRID,
 }
-FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud"}
+FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud",
+           ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
 
 
 @cache
@@ -170,7 +171,7 @@ def build_eye(args):
                 bar.update(settled(first[0], largest_mm, eye["tolerance_um"] * 1e-3) - bar.n)
             build_facets(args.eye, tmp / "remeshed.ply", {k: tmp / name for k, name in FACET_OUTPUTS.items()},
                          tolerance_um=eye["tolerance_um"], acceptance=AcceptanceModel.from_config(eye["delta_rho"]),
-                         progress=progress)
+                         progress=progress, as_given=args.as_given)
         table = read_receptors(tmp / "receptors.csv")
         if args.ply:
             interchange.write_receptor_ply(tmp / "receptors.ply", table)
@@ -237,20 +238,34 @@ def _format(path):
 
 
 def read_receptor_file(path, args):
-    """A receptor table from a ``.csv``, ``.eye`` or ``.ply`` file, with the options' conventions.
+    """A receptor table from a ``.csv``, ``.eye``, ``.ply``, ``.gltf`` or ``.glb`` file, with the options' conventions.
 
     A ``.eye`` file holds no Δφ or facet diameter: unless the options give
     them, Δφ is measured from neighbouring axes, and the facet diameter from
     neighbouring positions when ``--facet-diameter-um spacing`` asks for it.
+    With ``--directions`` the file is a table of bare directions
+    (:func:`beeoptics.io.interchange.read_directions`), placed on the
+    sphere the options give, its Δφ measured and its Δρ that many Δφ.
     """
     from beeoptics.eye.receptors import measure_spacing
-    from beeoptics.io import interchange
+    from beeoptics.io import interchange, oces
+    from beeoptics.io.receptortable import checked
 
+    if getattr(args, "directions", False):
+        if args.sphere_mm is None or args.centre_mm is None or args.delta_rho_per_delta_phi is None:
+            raise InputError(path, "", "a table of directions needs --sphere-mm, --centre-mm and "
+                             "--delta-rho-per-delta-phi to place its receptors and set their Δρ")
+        table = interchange.read_directions(path, halves=args.halves, frame=args.frame, radius_mm=args.sphere_mm,
+                                            centre_mm=args.centre_mm)
+        table = measure_spacing(table, path, facet_diameter_um=True)
+        return checked(table._replace(delta_rho_deg=args.delta_rho_per_delta_phi * table.delta_phi_deg), path)
     kind = _format(path)
     if kind == ".csv":
         return read_receptors(path)
     if kind == ".ply":
         return interchange.read_receptor_ply(path)
+    if kind in (".gltf", ".glb"):
+        return oces.read_oces(path)
     spacing = args.facet_diameter_um == "spacing"
     table = interchange.read_compoundray_eye(path, side=args.side or "auto", units=args.units, frame=args.frame,
                                              angle_convention=args.acceptance, delta_phi_deg=args.delta_phi_deg,
@@ -313,29 +328,35 @@ def meadow(args):
 
 def convert(args):
     """Convert a receptor table to another format, each chosen by the file's extension."""
-    from beeoptics.io import interchange
+    from beeoptics.io import interchange, oces
 
     kind = _format(args.output)
     table = read_receptor_file(args.input, args)
-    side = None if kind != ".eye" or args.side == "auto" else args.side
+    side = args.only
+    if side is not None:
+        # One eye only: a micro-CT file of both eyes is kept so, the other its mirror.
+        table = rows_of(table, np.asarray(table.side).astype(str) == side)
+        if not len(table.id):
+            raise InputError(args.input, "side", f"holds no receptor of the {side} eye")
     try:
         if kind == ".csv":
             write_receptors(args.output, table)
         elif kind == ".ply":
             interchange.write_receptor_ply(args.output, table, quality=None if args.quality == "none" else args.quality)
+        elif kind in (".gltf", ".glb"):
+            oces.write_oces(args.output, table, name=Path(args.output).stem)
         else:
             focal = args.focal_offset_mm
             if focal is None:
                 focal = 0.0 if table.focal_offset_mm is None else table.focal_offset_mm
-            interchange.write_compoundray_eye(args.output, table, side=side, units=args.units, frame=args.frame,
+            interchange.write_compoundray_eye(args.output, table, units=args.units, frame=args.frame,
                                               angle_convention=args.acceptance, focal_offset_mm=focal)
     except InputError:
         raise
     except ValueError as e:
         # The writers refuse what the table holds (a NaN, no receptor on a side): the input is at fault.
         raise InputError(args.input, "", str(e)) from None
-    written = np.sum(np.asarray(table.side).astype(str) == side) if side else len(table.id)
-    print(f"{args.output}: {written} receptors")
+    print(f"{args.output}: {len(table.id)} receptors")
 
 
 def _readable(value):
@@ -359,6 +380,8 @@ def _stats(values):
 
 def info(args):
     """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye or .ply)."""
+    import igl
+
     from beeoptics.eye.description import load_eye, load_eye_mesh
     from beeoptics.light.scene import load_scene
     from beeoptics.spectra import grid
@@ -375,20 +398,30 @@ def info(args):
             print(f"dorsal rim area: {int(np.sum(t.dorsal_rim))} receptors, microvilli at {_stats(t.microvilli_deg)}°")
         return
     data = load_yaml(path)
-    if isinstance(data, dict) and {"mesh", "placement", "facets", "facet_diameter"} & set(data):
+    if isinstance(data, dict) and {"mesh", "cornea", "placement", "facets", "facet_diameter"} & set(data):
         eye = load_eye(path)
         vertices, faces = load_eye_mesh(eye)
         doc = eye.document
-        p = doc["placement"]
         print(f"eye: {eye.name}" + "".join(f", {k} {doc[k]}" for k in ("species", "caste") if k in doc))
         print(f"facets per eye, published: {eye.facet_count}"
               + (f" ± {eye.facet_count_sd}" if eye.facet_count_sd is not None else ""))
-        print(f"mesh: {eye.mesh_path}, {len(vertices)} vertices, {len(faces)} faces, "
-              f"{np.ptp(vertices, axis=0).max():.3g} mm across")
-        print(f"placement: axis azimuth {p['axis_azimuth_deg']}°, elevation {p['axis_elevation_deg']}°, "
-              f"roll {p['roll_deg']}°, origin {_readable(p['origin_mm'])} mm")
-        print(f"axes: {eye.axis_model}" + (" (the measured field, beeoptics.eye.axismodel)"
-                                              if eye.axis_model == "field" else " (interpolated corneal normals)"))
+        surface = f"{len(vertices)} vertices, {len(faces)} faces, {np.ptp(vertices, axis=0).max():.3g} mm across"
+        azimuth, elevation = eye_azimuth_elevation(eye.rotation[2])
+        measured = eye.cornea_path or eye.ommatidia_path
+        if measured is not None:
+            area = igl.doublearea(vertices, faces).sum() / 2
+            what = "cornea" if eye.cornea_path is not None else "ommatidia"
+            print(f"{what}: {measured}, measured; its surface {surface}, {area:.3g} mm²")
+            print(f"placement: from the {what}, axis azimuth {azimuth:.1f}°, elevation {elevation:.1f}°, "
+                  f"origin {_readable(eye.origin.round(4).tolist())} mm")
+        else:
+            p = doc["placement"]
+            print(f"mesh: {eye.mesh_path}, {surface}")
+            print(f"placement: axis azimuth {p['axis_azimuth_deg']}°, elevation {p['axis_elevation_deg']}°, "
+                  f"roll {p['roll_deg']}°, origin {_readable(p['origin_mm'])} mm")
+        print("axes: " + ("the measured ommatidia's (beeoptics.eye.given)" if eye.ommatidia_path is not None else
+                          f"{eye.axis_model} (the measured field, beeoptics.eye.axismodel)" if eye.axis_model == "field"
+                          else f"{eye.axis_model} (interpolated corneal normals)"))
         for a in eye.anchors:
             print(f"anchor {a['name']}: {a['diameter_um']} µm at azimuth {a['azimuth_deg']}°, "
                   f"elevation {a['elevation_deg']}°")
@@ -432,9 +465,40 @@ def _positive_or(*words):
         except ValueError:
             value = float("nan")
         if not (value in words or np.isfinite(value) and value > 0):
-            raise argparse.ArgumentTypeError(f"expected {' or '.join(words)} or a positive number, not {text!r}")
+            raise argparse.ArgumentTypeError(f"expected {''.join(w + ' or ' for w in words)}a positive number, "
+                                             f"not {text!r}")
         return value
     return parse
+
+
+_positive = _positive_or()
+
+
+def _vector(text):
+    try:
+        value = [float(v) for v in text.split(",")]
+    except ValueError:
+        value = []
+    if len(value) != 3 or not np.isfinite(value).all():
+        raise argparse.ArgumentTypeError(f"expected three numbers x,y,z, not {text!r}")
+    return value
+
+
+def _sides(text):
+    value = text.split(",")
+    if len(value) != 2 or not set(value) <= set(SIDES):
+        raise argparse.ArgumentTypeError(f"expected two eyes, {SIDES[0]} or {SIDES[1]}, as FIRST,SECOND, not {text!r}")
+    return value
+
+
+def _frame(text):
+    from beeoptics.headframe import frame_axes
+
+    try:
+        frame_axes(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+    return text
 
 
 def _count(text):
@@ -457,16 +521,17 @@ def parser():
     g.add_argument("--units", type=_positive_or("m", "mm"), default="mm",
                    help="lengths in the .eye file: mm (CompoundRay's eye specification), m, or file units per mm "
                         "(default: %(default)s)")
-    g.add_argument("--frame", choices=["camera", "head"], default="camera",
+    g.add_argument("--frame", type=_frame, default="camera",
                    help="camera: x right, y up, z forward of a camera looking where the bee faces (the head "
-                        "frame's -y, z, x); head: head-frame coordinates unchanged (default: %(default)s)")
+                        "frame's -y, z, x); head: head-frame coordinates unchanged; or x=…,y=…,z=… naming the "
+                        "head direction (anterior, posterior, left, right, dorsal, ventral) of each of the file's "
+                        "axes, as micro-CT eyes need (default: %(default)s)")
     g.add_argument("--acceptance", choices=["fwhm", "variance"], default="fwhm",
                    help="the file's acceptance angle, radians, is Δρ (fwhm, CompoundRay's definition) or √2·Δρ "
                         "(variance: the same angular blur as the receptor's) (default: %(default)s)")
     g.add_argument("--side", choices=[*SIDES, "auto"],
                    help="reading a .eye: the eye it holds, or auto, the default, to find each receptor's eye by "
-                        "the sign of its head-frame y; writing a .eye: only that eye's receptors (default, or "
-                        "auto: all)")
+                        "the sign of its head-frame y")
     g.add_argument("--delta-phi-deg", type=float,
                    help="reading a .eye: Δφ of every receptor, degrees (default: measured from neighbouring axes)")
     g.add_argument("--facet-diameter-um", type=_positive_or("spacing"), help="reading a .eye: facet diameter of "
@@ -479,6 +544,9 @@ def parser():
     p.add_argument("-o", "--output", required=True, metavar="OUTDIR", type=Path,
                    help="folder for remeshed.ply, receptors.csv, quality.json and relaxation.npz")
     p.add_argument("--ply", action="store_true", help="also write receptors.ply, the receptors as a PLY point cloud")
+    p.add_argument("--as-given", action="store_true", help="a measured cornea's eye: each of its points a receptor "
+                   "with the file's acceptance angle, as CompoundRay renders it, instead of relaxed facets "
+                   "(beeoptics.eye.given)")
     p.add_argument("--quiet", **quiet)
     p.set_defaults(run=build_eye)
     p = sub.add_parser("render", help="trace an eye in a scene: responses and retinal images",
@@ -526,8 +594,21 @@ def parser():
     p.set_defaults(run=meadow)
     p = sub.add_parser("convert", parents=[eyefile], help="convert receptors between .csv, .eye and .ply",
                        description=convert.__doc__)
-    p.add_argument("input", metavar="IN", help="receptors.csv, a CompoundRay .eye or a receptor .ply")
-    p.add_argument("output", metavar="OUT", help="the file to write: .csv, .eye or .ply")
+    p.add_argument("input", metavar="IN", help="receptors.csv, a CompoundRay .eye, a receptor .ply or an OCES "
+                   ".gltf or .glb")
+    p.add_argument("output", metavar="OUT", help="the file to write: .csv, .eye, .ply, .gltf or .glb")
+    p.add_argument("--only", choices=SIDES, help="write only this eye's receptors (default: every receptor)")
+    g = p.add_argument_group("tables of directions (see beeoptics.io.interchange)")
+    g.add_argument("--directions", action="store_true", help="IN is a table of bare unit directions, x,y,z a line "
+                   "and no header (strawlab's digitisation of Buchner's Drosophila map), in --frame")
+    g.add_argument("--halves", type=_sides, metavar="FIRST,SECOND", help="the eyes of the file's first and second "
+                   "halves, e.g. left,right (default: each direction's eye by the sign of its head-frame y)")
+    g.add_argument("--sphere-mm", type=_positive, metavar="R", help="place the receptors on a sphere of this "
+                   "radius, mm: position = centre + R · direction")
+    g.add_argument("--centre-mm", type=_vector, metavar="X,Y,Z", help="the right eye's sphere centre, head frame, "
+                   "mm (the left eye's is its mirror)")
+    g.add_argument("--delta-rho-per-delta-phi", type=_positive, metavar="RATIO",
+                   help="each receptor's Δρ, as a multiple of its Δφ measured from neighbouring axes")
     p.add_argument("--focal-offset-mm", type=float,
                    help="writing a .eye: focal point offset of every receptor, mm (default: the input's, else 0)")
     p.add_argument("--quality", choices=[*MEASURES, "none"], default="delta_phi_deg",
@@ -550,6 +631,10 @@ def main(argv=None):
     except InputError as e:
         print(f"beeoptics: error: {e}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped to a reader that stopped early (| head): stop quietly
+        # Python's own advice: point stdout at devnull so that its flush at exit cannot fail again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except OSError as e:  # an unwritable output folder, a full disk
         print(f"beeoptics: error: {e}", file=sys.stderr)
         return 1

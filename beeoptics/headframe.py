@@ -32,6 +32,41 @@ RIGHT, LEFT = "right", "left"
 SIDES = (RIGHT, LEFT)
 
 
+#: The head's directions, by the names a file's frame is given in (:func:`frame_axes`).
+DIRECTIONS = {"anterior": (1.0, 0.0, 0.0), "posterior": (-1.0, 0.0, 0.0), "left": (0.0, 1.0, 0.0),
+              "right": (0.0, -1.0, 0.0), "dorsal": (0.0, 0.0, 1.0), "ventral": (0.0, 0.0, -1.0)}
+#: Named frames of eye files: this package's head frame, and a camera's (x right, y up, z forward).
+FRAMES = {"head": "x=anterior,y=left,z=dorsal", "camera": "x=right,y=dorsal,z=anterior"}
+
+
+def frame_axes(frame):
+    """A file's frame as the head-frame directions of its x, y and z axes, rows of a (3, 3) matrix.
+
+    Parameters
+    ----------
+    frame : str
+        A name of :data:`FRAMES`, or ``"x=<direction>,y=<direction>,z=<direction>"`` with
+        directions of :data:`DIRECTIONS`, each axis of the head once: micro-CT eyes come in
+        whatever frame their scan was registered in (``x=left,y=ventral,z=posterior``, say).
+        A point (x, y, z) of the file is then x·row₀ + y·row₁ + z·row₂ in the head frame.
+
+    Raises
+    ------
+    ValueError
+        If the frame is not of that form, or names a head axis twice.
+    """
+    spec = FRAMES.get(frame, frame)
+    try:
+        parts = dict(item.split("=") for item in spec.replace(" ", "").split(","))
+        rows = np.array([DIRECTIONS[parts.pop(axis)] for axis in ("x", "y", "z")])
+    except (ValueError, KeyError):
+        raise ValueError(f"a frame is {' or '.join(FRAMES)}, or x=…,y=…,z=… naming for each of the file's axes one "
+                         f"of {', '.join(DIRECTIONS)}; not {frame!r}") from None
+    if parts or abs(np.linalg.det(rows)) != 1.0:
+        raise ValueError(f"the frame {frame!r} must name each of the file's axes once and each head axis once")
+    return rows
+
+
 def side_sign(side):
     """Return -1 for the right eye and +1 for the left: the sign of y on that side."""
     if side not in SIDES:

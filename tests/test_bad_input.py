@@ -108,7 +108,7 @@ def default_config():
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
     cfg.update(eyes=["tiny"], scenes=["open"], eyes_dir=str(DATA / "eyes"), scenes_dir=str(DATA / "scenes"),
                flights={"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"]}},
-               polarisation={"eyes": [], "scenes": []})
+               polarisation={"eyes": [], "scenes": []}, comparison={"eyes": []})
     return cfg
 
 

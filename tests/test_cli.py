@@ -171,7 +171,7 @@ def test_convert_round_trips_through_compoundray_and_ply(built, tmp_path, capsys
     assert call(capsys, "convert", csv, tmp_path / "r.ply")[0] == 0
     assert call(capsys, "convert", tmp_path / "r.ply", tmp_path / "r.csv")[0] == 0
     assert (tmp_path / "r.csv").read_bytes() == csv.read_bytes()
-    code, out, _ = call(capsys, "convert", csv, tmp_path / "left.eye", "--side", "left")
+    code, out, _ = call(capsys, "convert", csv, tmp_path / "left.eye", "--only", "left")
     assert code == 0 and "300 receptors" in out
     assert len((tmp_path / "left.eye").read_text().splitlines()) == 300
 
@@ -205,6 +205,19 @@ def test_info_describes_eyes_scenes_and_receptors(built, tmp_path, capsys):
     for path in (EYE, ROOT / "eyes" / "drone" / "eye.yaml", FLOWER):
         code, out, _ = call(capsys, "info", path)
         assert code == 0 and not set("[]{}'") & set(out), out
+
+
+def test_info_describes_measured_eyes(capsys):
+    code, out, _ = call(capsys, "info", ROOT / "eyes" / "bombus_terrestris_77970" / "eye.yaml")
+    assert code == 0 and "cornea: " in out and "placement: from the cornea" in out and "anchor dorsal: fill" in out
+    code, out, _ = call(capsys, "info", ROOT / "eyes" / "drosophila_melanogaster" / "eye.yaml")
+    assert code == 0 and "ommatidia: " in out and "699 vertices" in out and "model delta_phi, ratio 1.1" in out
+
+
+def test_output_piped_to_a_reader_that_stops_early_ends_quietly():
+    # As `beeoptics info eye.yaml | head -2`: no "Broken pipe" error once head has its lines.
+    result = subprocess.run(f"{TOOL} info {EYE} | head -1", shell=True, capture_output=True, text=True)
+    assert result.stdout.startswith("eye: ") and result.stderr == ""
 
 
 def missing_mesh(tmp_path, built):
@@ -275,13 +288,19 @@ def meadow_of_unknown_species(tmp_path, built):
     return ["meadow", tmp_path / "meadow.yaml", "-o", tmp_path / "out" / "meadow.ply"], "meadow.yaml", "plants"
 
 
+def directions_without_a_sphere(tmp_path, built):
+    path = tmp_path / "directions.csv"
+    path.write_text("1,0,0\n0,1,0\n0,0,1\n")
+    return ["convert", path, tmp_path / "out" / "eye.csv", "--directions"], "directions.csv", ""
+
+
 def unknown_format(tmp_path, built):
     return ["convert", built / "receptors.csv", tmp_path / "out" / "eye.txt"], "eye.txt", ""
 
 
 @pytest.mark.parametrize("case", [missing_mesh, unknown_material, nonpositive_delta_rho, zero_axis, nan_axis,
                                   infinite_position, zero_samples, unknown_background, turbid_daylight, unknown_ground,
-                                  meadow_of_unknown_species, unknown_format])
+                                  meadow_of_unknown_species, directions_without_a_sphere, unknown_format])
 def test_bad_input_is_one_line_naming_file_and_field_and_writes_nothing(case, tmp_path, built, capsys):
     args, file, field = case(tmp_path, built)
     code, out, err = call(capsys, *args)

@@ -9,6 +9,7 @@ from beeoptics.io.errors import InputError
 from beeoptics.headframe import mirror
 from beeoptics.io.interchange import (
     read_compoundray_eye,
+    read_directions,
     read_receptor_ply,
     write_compoundray_eye,
     write_receptor_ply,
@@ -301,3 +302,61 @@ def test_ply_that_is_not_a_ply(tmp_path):
         read_receptor_ply(path)
     with pytest.raises(InputError, match="no such file"):
         read_receptor_ply(tmp_path / "none.ply")
+
+
+def directions_file(tmp_path, axes):
+    path = tmp_path / "directions.csv"
+    path.write_text("".join(",".join(f"{c:.12g}" for c in a) + "\n" for a in axes))
+    return path
+
+
+def test_a_table_of_directions_is_placed_on_its_sphere(tmp_path):
+    table = receptor_table()
+    left = table.axis[table.side == "left"]
+    # strawlab's layout: the left eye first, then its mirror, the right.
+    path = directions_file(tmp_path, np.vstack([left, mirror(left)]))
+    got = read_directions(path, halves=("left", "right"), radius_mm=0.2, centre_mm=(0.05, -0.3, 0.0))
+    right = got.side == "right"
+    np.testing.assert_allclose(got.axis[right], mirror(left), atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(got.position[right] - [0.05, -0.3, 0.0], axis=1), 0.2)
+    np.testing.assert_allclose(np.linalg.norm(got.position[~right] - [0.05, 0.3, 0.0], axis=1), 0.2)
+    assert np.isnan(got.delta_rho_deg).all()
+    # Without halves each direction's eye is the sign of its y, as the .eye reader finds it.
+    assert (read_directions(path, radius_mm=0.2, centre_mm=(0, -0.3, 0)).side == np.where(
+        got.axis[:, 1] < 0, "right", "left")).all()
+
+
+@pytest.mark.parametrize("text, field, message", [
+    ("1,0,0\n0,1\n", "line 2", "holds 2 values"),
+    ("1,0,0\n0,x,1\n", "line 2", "is not three numbers"),
+    ("1,0,0\n0,0,0\n", "line 2: direction", "zero length"),
+    ("1,0,0\n0,nan,1\n", "line 2", "three finite numbers"),
+    ("", "", "holds no directions"),
+])
+def test_a_bad_table_of_directions_names_its_line(tmp_path, text, field, message):
+    path = tmp_path / "d.csv"
+    path.write_text(text)
+    with pytest.raises(InputError, match=message) as e:
+        read_directions(path, radius_mm=0.2, centre_mm=(0, -0.3, 0))
+    assert e.value.field == field
+
+
+def test_uneven_halves_are_refused(tmp_path):
+    path = directions_file(tmp_path, np.eye(3))
+    with pytest.raises(InputError, match="two halves"):
+        read_directions(path, halves=("left", "right"), radius_mm=0.2, centre_mm=(0, -0.3, 0))
+
+
+def test_a_lone_receptor_at_the_rim_still_gets_its_delta_phi():
+    # A receptor every triangle through it is dropped for (a rim point far from the rest) takes its
+    # nearest axes as neighbours rather than no Δφ at all.
+    table = receptor_table()
+    right = table.side == "right"
+    axes = table.axis[right]
+    lone = axes.mean(0) - 1.6 * (axes[0] - axes.mean(0))
+    axes = np.vstack([axes, lone / np.linalg.norm(lone)])
+    n = len(axes)
+    nan = np.full(n, np.nan)
+    sparse = ReceptorTable(id=np.arange(n), side=np.full(n, "right"), position=axes, axis=axes,
+                           facet_diameter_um=nan, delta_phi_deg=nan.copy(), delta_rho_deg=np.ones(n))
+    assert np.isfinite(measure_spacing(sparse, "x").delta_phi_deg).all()

@@ -497,3 +497,22 @@ def test_a_cut_off_glb(tmp_path, table):
 def test_missing_file(tmp_path):
     with pytest.raises(InputError, match="no such file"):
         read_oces(tmp_path / "none.gltf")
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb"])
+def test_convert_chooses_oces_by_extension_and_round_trips_a_built_eye(tmp_path, suffix, validator, capsys):
+    from beeoptics.cli import main
+    from beeoptics.io.receptortable import read_receptors
+    from conftest import ROOT
+
+    eye = ROOT / "eyes" / "drosophila_melanogaster" / "ommatidia.csv"
+    out, back = tmp_path / f"fly{suffix}", tmp_path / "back.csv"
+    assert main(["convert", str(eye), str(out)]) == 0
+    assert main(["convert", str(out), str(back)]) == 0
+    data = out.read_bytes()
+    doc = json.loads(data if suffix == ".gltf" else data[20:20 + struct.unpack_from("<I", data, 12)[0]])
+    assert schema_errors(validator, doc) == []
+    first, again = read_receptors(eye), read_receptors(back)
+    np.testing.assert_allclose(again.position, first.position, atol=1e-6)
+    np.testing.assert_allclose(again.axis, first.axis, atol=1e-6)
+    np.testing.assert_allclose(again.delta_rho_deg, first.delta_rho_deg, atol=1e-6)

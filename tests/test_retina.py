@@ -58,7 +58,7 @@ def test_map3_shows_a_white_surface_white_and_the_dark_apart_from_outside(tmp_pa
     wl = np.arange(300.0, 701.0, 5.0)
     white_q = np.array([[2.0, 5.0, 9.0], [4.0, 10.0, 18.0]])
     # A white surface through each receptor catches what white does: (1, 1, 1), white.
-    _, colours, _ = bee_colours(white_q, white_q, wl, np.ones((2, len(wl))), [0, 2, 1])
+    _, colours, _ = bee_colours(white_q, white_q, wl, np.ones((2, len(wl))), [(0,), (2,), (1,)])
     np.testing.assert_allclose(encode(colours), 1.0)
     # A receptor that caught nothing is black; no receptor at all (NaN) is transparent.
     write_png(tmp_path / "two.png", encode(np.array([[[0.0, 0.0, 0.0], [np.nan, np.nan, np.nan]]])))

@@ -1,5 +1,7 @@
 """Visual-field maps on the sphere, and the acuity table: analytic cases."""
 
+import json
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -96,8 +98,11 @@ def test_acuity_table_gives_nyquist_and_rayleigh_limits(tmp_path):
                           delta_rho_deg=np.full(2 * n, 2.6))
     write_receptors(tmp_path / "receptors.csv", table)
     # A honey bee's eye (the tiny test eye names no receptor set: the honey bee's, λmax 544 nm for G).
-    acuity_table({"test": (ROOT / "tests" / "data" / "eyes" / "tiny" / "eye.yaml", tmp_path / "receptors.csv")},
-                 {"acuity": tmp_path / "acuity.csv"}, width_px=90)
+    quality = {"facets_per_eye": n, "facets_published": n, "size": {"eye_length_mm": 1.0, "corneal_area_mm2": 0.9}}
+    (tmp_path / "quality.json").write_text(json.dumps(quality))
+    acuity_table({"test": (ROOT / "tests" / "data" / "eyes" / "tiny" / "eye.yaml", tmp_path / "receptors.csv",
+                           tmp_path / "quality.json")},
+                 {"acuity": tmp_path / "acuity.csv", "fields": tmp_path / "fields.png"}, width_px=90)
     row = read_table(tmp_path / "acuity.csv", numeric=["f_max_cpd_median", "rayleigh_deg_G_median_facet",
                                                         "delta_rho_deg_p50", "receptors"], text=["eye"])
     assert list(row["eye"]) == ["test"] and row["receptors"][0] == 2 * n

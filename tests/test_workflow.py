@@ -31,6 +31,8 @@ def workdir(tmp_path_factory):
     work = tmp_path_factory.mktemp("workflow")
     shutil.copytree(DATA / "eyes", work / "eyes")
     shutil.copytree(DATA / "scenes", work / "scenes")
+    # The fly, a measured eye built fast (its ommatidia are given), for the comparison target.
+    shutil.copytree(ROOT / "eyes" / "drosophila_melanogaster", work / "eyes" / "drosophila_melanogaster")
     # A dorsal rim area, for the polarisation stages: the 12 facets nearest the dorsal margin (a test value).
     with open(work / "eyes" / "tiny" / "eye.yaml", "a") as f:
         f.write("dorsal_rim: {count: 12}\n")
@@ -45,6 +47,7 @@ def workdir(tmp_path_factory):
         "flights": {"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"], "fps": 10,
                              "samples_per_receptor": 4, "target": {"position_m": [0.1, 0.0, 0.12], "radius_m": 0.02},
                              "human_view": {"width_px": 40, "height_px": 30, "samples_per_pixel": 1}}},
+        "comparison": {"eyes": ["tiny", "drosophila_melanogaster"]},
         "polarisation": {"eyes": ["tiny"], "scenes": ["flower"], "samples_per_receptor": 8,
                          "compass": {"headings": 8, "turbidities": [5], "heights_m": [0.02]}},
     }
@@ -61,7 +64,7 @@ def test_every_artifact_is_written(workdir):
                  "figures/relaxation.png", "figures/delta_phi.png", "figures/facet_diameter.png",
                  "figures/acceptance.png", "figures/field_of_view.png"):
         assert (eye / name).stat().st_size > 0
-    for name in ("eyes/acuity.csv", "figures/sensitivities/apis_mellifera.png"):
+    for name in ("eyes/acuity.csv", "eyes/fields.png", "figures/sensitivities/apis_mellifera.png"):
         assert (workdir / "results" / name).stat().st_size > 0
     for scene in ("open", "flower"):
         for name in ("responses.csv", "irradiance.npz", "voronoi_map3.png", "voronoi_map2.png",
@@ -254,3 +257,13 @@ def test_receptor_curves_from_a_csv_replace_the_default(workdir, tmp_path):
     red = read_table(tmp_path / "red.out", numeric=["UV", "B", "G"], text=["side"])
     np.testing.assert_allclose(red["B"], ours["B"], rtol=1e-6)
     assert not np.allclose(red["G"], ours["G"], rtol=1e-3)
+
+
+def test_the_comparison_target_builds_and_compares_its_eyes(workdir):
+    # Not part of the default run: asked for by name, it builds the fly too and compares both.
+    assert not (workdir / "results" / "eyes" / "drosophila_melanogaster").exists()
+    result = run(workdir, "comparison")
+    assert result.returncode == 0, result.stderr[-3000:]
+    out = workdir / "results" / "comparison"
+    assert read_table(out / "acuity.csv")["eye"].tolist() == ["tiny", "drosophila_melanogaster"]
+    assert (out / "fields.png").stat().st_size > 0 and (out / "allometry.png").stat().st_size > 0

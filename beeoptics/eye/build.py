@@ -25,7 +25,7 @@ from threadpoolctl import threadpool_limits
 
 from beeoptics.eye.axismodel import field_axes
 from beeoptics.eye.dorsalrim import dorsal_rim, rim_summary
-from beeoptics.eye.facetmap import anchor_vertices, diameter_map
+from beeoptics.eye.facetmap import FILL, anchor_vertices, diameter_map, fill_diameter
 from beeoptics.eye.lattice import conformal_map, project_grid
 from beeoptics.eye.meshquery import MeshQuery
 from beeoptics.eye.optics import acceptance_angles
@@ -33,6 +33,7 @@ from beeoptics.eye.quality import (anisotropy, field_match, fields, lattice_qual
                                    size, zone_contrast)
 from beeoptics.eye.receptors import delta_phi, receptor_table, to_head
 from beeoptics.eye.relax import relax
+from beeoptics.io.errors import InputError
 
 
 class BuiltEye(NamedTuple):
@@ -84,8 +85,15 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         sources = cKDTree(vertices).query(points[anchor_vertices(grid_axes @ eye.rotation, eye.anchors)])[1]
     else:
         sources = anchor_vertices(normals @ eye.rotation, eye.anchors)
-    diameters = diameter_map(vertices, faces, sources, [a["diameter_um"] * 1e-3 for a in eye.anchors],
-                             eye.diameter_power)
+    values = [None if a["diameter_um"] == FILL else a["diameter_um"] * 1e-3 for a in eye.anchors]
+    filled = None
+    if None in values:
+        filled = fill_diameter(vertices, faces, sources, values, eye.facet_count, eye.diameter_power)
+        if filled is None:
+            raise InputError(eye.path, "facet_diameter.anchors", f"no diameter of the {FILL} anchor lets "
+                             f"{eye.facet_count} facets tile this cornea with the other anchors' diameters")
+        values = [filled if v is None else v for v in values]
+    diameters = diameter_map(vertices, faces, sources, values, eye.diameter_power)
     start = time.perf_counter()
     result = relax(query, conformal_map(vertices, faces), diameters, points, point_faces, tolerance_um * 1e-3,
                    progress=progress)
@@ -130,6 +138,7 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         "facets_published": eye.facet_count,
         "facets_published_sd": eye.facet_count_sd,
         "grid_pitch_um": pitch * 1e3,
+        "facet_diameter_fill_um": None if filled is None else filled * 1e3,
         "relaxation": {
             "iterations": result.iterations,
             "tolerance_um": tolerance_um,
@@ -143,7 +152,7 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
         "field": field,
         "dorsal_rim": None if rim is None else rim_summary(axes_head, *rim),
         "published": dict(eye.published),
-        "checks": published_checks(eye, count, lattice, eye_optics, zone, field, sizes),
+        "checks": published_checks(eye, count, lattice, eye_optics, zone, field, sizes, seen),
     }
     snapshots = [p for _, p in result.snapshots]
     relaxation = {

@@ -13,17 +13,26 @@ from typing import NamedTuple
 import igl
 import numpy as np
 
+from beeoptics.eye.cornea import cornea_frame, reconstruct
+from beeoptics.eye.facetmap import FILL
+from beeoptics.eye.given import given_right_eye, surface
 from beeoptics.eye.optics import RHABDOM_ACCEPTANCE_DEG
-from beeoptics.headframe import EYE_SIZE_MM, eye_rotation
+from beeoptics.headframe import EYE_SIZE_MM, RIGHT, eye_rotation
 from beeoptics.io.errors import InputError
 from beeoptics.io.meshfile import read_mesh
+from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import load_yaml, validate
 
 class EyeDescription(NamedTuple):
     """One eye class, as its ``eye.yaml`` describes it.
 
     ``rotation`` has the right eye's local axes as rows, in the head frame,
-    and ``origin`` is its local origin in the head frame, mm. ``anchors``
+    and ``origin`` is its local origin in the head frame, mm: the
+    placement's, or a measured cornea's own (:mod:`beeoptics.eye.cornea`),
+    when the eye has a ``cornea`` (``cornea_path``) instead of a hand-made
+    mesh (``mesh_path``), or its measured ommatidia (``ommatidia_path``,
+    :mod:`beeoptics.eye.given`; ``facet_count`` is then the published count
+    if given, else the table's, and there are no anchors). ``anchors``
     are the facet-diameter anchors (``name``, ``azimuth_deg``,
     ``elevation_deg``, ``diameter_um``), spread with Shepard's exponent
     ``diameter_power``. ``axis_model`` names where the receptors' axes come
@@ -37,7 +46,9 @@ class EyeDescription(NamedTuple):
 
     name: str
     path: Path
-    mesh_path: Path
+    mesh_path: Path | None
+    cornea_path: Path | None
+    ommatidia_path: Path | None
     rotation: np.ndarray
     origin: np.ndarray
     facet_count: int
@@ -68,15 +79,33 @@ def load_eye(path):
     if own.get("model") == "measured" and not optics.get("delta_rho_anchors"):
         raise InputError(path, "optics.delta_rho", "the measured model needs optics.delta_rho_anchors, the "
                          "acceptance angles measured in named regions")
+    anchors = doc.get("facet_diameter", {}).get("anchors", [])
+    if sum(a["diameter_um"] == FILL for a in anchors) > 1:
+        raise InputError(path, "facet_diameter.anchors", f"one anchor at most may be left to {FILL}")
     if own.get("model") == "delta_phi" and "ratio" not in own:
         raise InputError(path, "optics.delta_rho.ratio", "the delta_phi model needs the ratio of Δρ to Δφ")
-    p = doc["placement"]
+    cornea_path = ommatidia_path = None
+    facets = doc.get("facets", {})
+    if "cornea" in doc or "ommatidia" in doc:
+        # A measured eye's frame is its own: the cornea's points, or the ommatidia's.
+        if "cornea" in doc:
+            cornea_path = path.parent / doc["cornea"]["file"]
+            positions, normals = _cornea(cornea_path, path)
+        else:
+            ommatidia_path = path.parent / doc["ommatidia"]["file"]
+            given = given_right_eye(ommatidia_path, path, "ommatidia.file")
+            positions, normals = given.position, given.axis
+            facets = {"count": len(given.id), **facets}
+        rotation, origin = cornea_frame(positions, normals)
+    else:
+        p = doc["placement"]
+        rotation = eye_rotation(p["axis_azimuth_deg"], p["axis_elevation_deg"], p["roll_deg"])
+        origin = np.asarray(p["origin_mm"], float)
     return EyeDescription(
-        name=doc["name"], path=path, mesh_path=path.parent / doc["mesh"],
-        rotation=eye_rotation(p["axis_azimuth_deg"], p["axis_elevation_deg"], p["roll_deg"]),
-        origin=np.asarray(p["origin_mm"], float),
-        facet_count=doc["facets"]["count"], facet_count_sd=doc["facets"].get("sd"),
-        anchors=doc["facet_diameter"]["anchors"], diameter_power=doc["facet_diameter"]["power"],
+        name=doc["name"], path=path, mesh_path=path.parent / doc["mesh"] if "mesh" in doc else None,
+        cornea_path=cornea_path, ommatidia_path=ommatidia_path, rotation=rotation, origin=origin,
+        facet_count=facets["count"], facet_count_sd=facets.get("sd"),
+        anchors=anchors, diameter_power=doc.get("facet_diameter", {}).get("power", 2.0),
         rhabdom_acceptance_deg=doc.get("optics", {}).get("rhabdom_acceptance_deg", RHABDOM_ACCEPTANCE_DEG),
         axis_model=doc["axes"]["model"], dorsal_rim=doc.get("dorsal_rim"),
         delta_rho_anchors=doc.get("optics", {}).get("delta_rho_anchors", []),
@@ -85,8 +114,25 @@ def load_eye(path):
     )
 
 
+def _cornea(path, source):
+    """The right eye's points and normals of a measured cornea's table (head frame, mm)."""
+    if not path.is_file():
+        raise InputError(source, "cornea.file", f"no such file {path}")
+    table = read_receptors(path)
+    right = np.asarray(table.side).astype(str) == RIGHT
+    if right.sum() < 4:
+        raise InputError(path, "side", "a cornea needs the right eye's points (side right)")
+    return table.position[right], table.axis[right]
+
+
+def cornea_points(eye):
+    """A measured cornea's points and normals in the eye's local frame (mm)."""
+    positions, normals = _cornea(eye.cornea_path, eye.path)
+    return (positions - eye.origin) @ eye.rotation.T, normals @ eye.rotation.T
+
+
 def load_eye_mesh(eye):
-    """The hand-made mesh of an eye, checked for size and orientation.
+    """The hand-made mesh of an eye, or its measured cornea's surface, checked for size and orientation.
 
     Raises
     ------
@@ -97,7 +143,12 @@ def load_eye_mesh(eye):
         faces do not face outward along the eye's local +z; or if the eye's
         facet count could not tile it (:func:`check_facet_count`).
     """
-    vertices, faces = read_mesh(eye.mesh_path, source=eye.path, field="mesh")
+    if eye.ommatidia_path is not None:
+        return surface(eye, given_right_eye(eye.ommatidia_path, eye.path, "ommatidia.file"))[:2]
+    if eye.cornea_path is not None:
+        vertices, faces = reconstruct(*cornea_points(eye), eye.cornea_path)
+    else:
+        vertices, faces = read_mesh(eye.mesh_path, source=eye.path, field="mesh")
     pinched = ~np.asarray(igl.is_vertex_manifold(faces), bool).ravel()
     if pinched.any():
         raise InputError(
@@ -146,6 +197,8 @@ def check_facet_count(eye, area_mm2):
     (three cannot even be triangulated), far more would take hours to
     squeeze in, each ending far smaller than measured.
     """
+    if any(a["diameter_um"] == FILL for a in eye.anchors):
+        return  # the count sets the missing diameter (beeoptics.eye.facetmap.fill_diameter)
     fewest, most = facet_count_range(area_mm2, [a["diameter_um"] for a in eye.anchors])
     if not np.floor(fewest) <= eye.facet_count <= np.ceil(most):
         sizes = sorted({a["diameter_um"] for a in eye.anchors})

@@ -6,7 +6,11 @@ placed on the mesh at the vertex whose normal points closest to the
 anchor's viewing direction, and the diameter anywhere else is Shepard's
 inverse-distance weighting of the anchor values, with geodesic distances
 over the eye surface (libigl heat method) so that the map follows the
-cornea rather than cutting through the head.
+cornea rather than cutting through the head. Where a region's diameter is
+not published but the eye's facet count and its measured cornea are, one
+anchor may be left to ``fill``: its diameter is then the one at which the
+map's hexagons, as many as the count, tile the cornea
+(:func:`fill_diameter`).
 
 References
 ----------
@@ -14,7 +18,9 @@ Shepard D (1968) A two-dimensional interpolation function for
 irregularly-spaced data. Proc 23rd ACM National Conference, 517–524.
 """
 
+import igl
 import numpy as np
+from scipy.optimize import brentq
 
 from beeoptics.eye.geodesic import heat_distances
 from beeoptics.headframe import eye_direction
@@ -34,6 +40,47 @@ def anchor_vertices(normals, anchors):
     return np.argmax(normals @ dirs.T, axis=0)
 
 
+#: An anchor whose diameter the count and the cornea set.
+FILL = "fill"
+
+
+def _weights(vertices, faces, sources, power):
+    """Shepard's normalised weights of each anchor at each vertex (anchors, vertices)."""
+    dist = heat_distances(vertices, faces, sources)
+    dist[np.arange(len(sources)), sources] = 0.0
+    with np.errstate(divide="ignore"):
+        weight = np.abs(dist) ** -power
+    exact = np.isinf(weight)
+    weight[:, exact.any(0)] = exact[:, exact.any(0)]
+    return weight / weight.sum(0)
+
+
+def fill_diameter(vertices, faces, sources, values, count, power=2.0):
+    """The diameter of the anchor whose value is None at which ``count`` hexagons of the map tile the mesh.
+
+    Each vertex's share of the surface (its Voronoi area) holds area / ((√3/2)·d²)
+    facets of the map's diameter d there; the unknown anchor's diameter is
+    found (Brent's method) where they sum to ``count``.
+
+    Returns
+    -------
+    float, or None if no diameter between a tenth and ten times the known ones tiles it so.
+    """
+    weight = _weights(vertices, faces, sources, power)
+    unknown = [k for k, v in enumerate(values) if v is None]
+    known = np.array([0.0 if v is None else v for v in values])
+    base, slope = (weight * known[:, None]).sum(0), weight[unknown[0]]
+    area = igl.massmatrix(vertices, faces, igl.MASSMATRIX_TYPE_VORONOI).diagonal()
+
+    def surplus(d):
+        return float((area / (np.sqrt(3.0) / 2.0 * (base + slope * d) ** 2)).sum()) - count
+
+    lo, hi = 0.1 * known.max(), 10.0 * known.max()
+    if surplus(lo) * surplus(hi) > 0.0:
+        return None
+    return brentq(surplus, lo, hi, xtol=1e-12)
+
+
 def diameter_map(vertices, faces, sources, values, power=2.0):
     """Inverse-geodesic-distance interpolation of anchor values over a mesh.
 
@@ -51,11 +98,4 @@ def diameter_map(vertices, faces, sources, values, power=2.0):
     -------
     ndarray, shape (n_vertices,)
     """
-    values = np.asarray(values, float)
-    dist = heat_distances(vertices, faces, sources)
-    dist[np.arange(len(sources)), sources] = 0.0
-    with np.errstate(divide="ignore"):
-        weight = np.abs(dist) ** -power
-    exact = np.isinf(weight)
-    weight[:, exact.any(0)] = exact[:, exact.any(0)]
-    return (weight * values[:, None]).sum(0) / weight.sum(0)
+    return (_weights(vertices, faces, sources, power) * np.asarray(values, float)[:, None]).sum(0)

@@ -39,8 +39,11 @@ class MeshQuery:
         dual = np.hstack([(d22[:, None] * e1 - d12[:, None] * e2) / det, (d11[:, None] * e2 - d12[:, None] * e1) / det])
         # Corner, normal and dual basis side by side: one gather per point, the relaxation's hot path.
         self._frame = np.ascontiguousarray(np.hstack([self._corner, self.face_normals, dual]))
-        # A face on the rim has an edge with no face across it.
-        self._rim_face = (igl.triangle_triangle_adjacency(self.faces)[0] < 0).any(1)
+        # A face on the rim has a corner on the boundary: a face that touches it at a corner
+        # only holds a particle pushed into that corner as firmly as one with an edge there.
+        on_boundary = np.zeros(len(self.vertices), bool)
+        on_boundary[igl.boundary_facets(self.faces)[0].ravel()] = True
+        self._rim_face = on_boundary[self.faces].any(1)
 
     def project(self, points):
         """Closest points on the mesh and the faces that hold them."""
@@ -64,7 +67,7 @@ class MeshQuery:
         return onto, faces
 
     def on_rim_face(self, faces):
-        """Whether each face has an edge on the mesh boundary."""
+        """Whether each face has a corner on the mesh boundary."""
         return self._rim_face[faces]
 
     def barycentric(self, points, faces):

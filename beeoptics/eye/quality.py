@@ -308,13 +308,13 @@ ROWS_FROM_HORIZONTAL_MAX_DEG = 10.0
 VERTICAL_NEIGHBOURS_MIN = 0.15
 
 
-def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None):
-    """Pass or fail for each published bound the eye description gives."""
+def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None, seen=None):
+    """Pass or fail for each published bound the eye description gives (``seen``: :func:`fields`)."""
     out = {}
     if field is not None:
         out["field_covered_at_least_0.9"] = field["coverage"]["covered"] >= FIELD_COVERED_MIN
         out["field_outside_at_most_0.1"] = field["coverage"]["outside"] <= FIELD_OUTSIDE_MAX
-    if field is not None and "anisotropy" in field:
+    if field is not None and "anisotropy" in field and eye.axis_model == "field":
         shape = field["anisotropy"]
         for key in ("delta_phi_h_deg", "delta_phi_v_deg"):
             out[f"{key}_median_ratio_within_10_percent"] = abs(shape[key]["median_ratio"] - 1.0) <= \
@@ -330,13 +330,18 @@ def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None):
         spec = eye.published.get(key)
         if spec and sizes is not None:
             out[f"{key}_within_tolerance"] = abs(sizes[key] / spec["value"] - 1.0) <= spec["tolerance"]
+    spec = eye.published.get("field_fraction")
+    if spec and seen is not None:
+        out["field_fraction_within_tolerance"] = abs(seen["axes"]["right_fraction"] / spec["value"] - 1.0) <= \
+            spec["tolerance"]
     if eye.facet_count_sd is not None:
         out["facet_count_within_spread"] = bool(abs(count - eye.facet_count) <= eye.facet_count_sd)
-    out["six_neighbour_fraction_at_least_0.85"] = lattice["six_neighbour_fraction"] >= 0.85
-    out["spacing_error_at_most_5_percent"] = bool(
-        lattice["spacing_median_abs_relative_error"] <= 0.05
-        and all(b["median_abs_relative_error"] <= 0.05 for b in lattice["spacing_error_by_diameter_band"])
-    )
+    if lattice is not None:  # a relaxed lattice's; given receptors have none
+        out["six_neighbour_fraction_at_least_0.85"] = lattice["six_neighbour_fraction"] >= 0.85
+        out["spacing_error_at_most_5_percent"] = bool(
+            lattice["spacing_median_abs_relative_error"] <= 0.05
+            and all(b["median_abs_relative_error"] <= 0.05 for b in lattice["spacing_error_by_diameter_band"])
+        )
     published = eye.published
     dp = published.get("delta_phi_deg")
     if dp:

@@ -10,7 +10,7 @@ each eye's axes (:func:`beeoptics.eye.lattice.sphere_triangles`).
 """
 
 import numpy as np
-from scipy.spatial import QhullError
+from scipy.spatial import QhullError, cKDTree
 
 from beeoptics.eye.lattice import edge_angles, mean_over_edges, sphere_triangles, triangle_edges
 from beeoptics.headframe import LEFT, RIGHT, SIDES, mirror
@@ -54,6 +54,20 @@ def receptor_table(eye, points, axes, facet_diameter_um, dphi, drho, rim=None):
     )
 
 
+#: The nearest axes a receptor left out of every triangle takes as its neighbours.
+LONE_NEIGHBOURS = 2
+
+
+def joined(axes, edges):
+    """``edges`` and, for a receptor in none (a lone point the triangulation drops at the rim), edges to its
+    :data:`LONE_NEIGHBOURS` nearest axes, so that every receptor has a Δφ."""
+    lone = np.setdiff1d(np.arange(len(axes)), edges.ravel())
+    if not lone.size:
+        return edges
+    nearest = cKDTree(axes).query(axes[lone], k=LONE_NEIGHBOURS + 1)[1][:, 1:]
+    return np.vstack([edges, np.column_stack([np.repeat(lone, LONE_NEIGHBOURS), nearest.ravel()])])
+
+
 def measure_spacing(table, source, delta_phi_deg=True, facet_diameter_um=False):
     """A receptor table with Δφ, the facet diameter, or both measured from each eye's neighbours.
 
@@ -75,7 +89,7 @@ def measure_spacing(table, source, delta_phi_deg=True, facet_diameter_um=False):
         try:
             if rows.size < 4:
                 raise QhullError("fewer than four points")
-            edges = triangle_edges(sphere_triangles(table.axis[rows]))
+            edges = joined(table.axis[rows], triangle_edges(sphere_triangles(table.axis[rows])))
         except QhullError:
             raise InputError(source, "direction",
                              "the axes cannot be triangulated to find neighbours (fewer than four, or all in one "

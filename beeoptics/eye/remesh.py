@@ -71,9 +71,10 @@ def target_edge_mm(eye, edge_fraction):
     """The remeshing edge: ``edge_fraction`` of the mean facet diameter of the eye's anchors, mm.
 
     With the default third, a third of a typical facet and at most half of
-    the smallest (the drone's 17.7 µm against its mean of 27 µm).
+    the smallest (the drone's 17.7 µm against its mean of 27 µm). An
+    anchor the facets fill (:mod:`beeoptics.eye.facetmap`) does not count.
     """
-    return edge_fraction * (np.mean([a["diameter_um"] for a in eye.anchors]) * 1e-3)
+    return edge_fraction * (np.mean([a["diameter_um"] for a in eye.anchors if a["diameter_um"] != "fill"]) * 1e-3)
 
 
 def smooth_normals(vertices, faces, steps):

@@ -26,9 +26,17 @@ EXPOSURE_PERCENTILE = 99.5
 
 
 def map3(relative, display):
-    """Collins' map3 of catches relative to white (n, classes): the ``display`` classes (indices of the red,
-    green and blue channels; a bee's UV, G and B) as linear RGB, (1, 1, 1) white."""
-    return np.asarray(relative)[..., np.asarray(display)]
+    """Collins' map3 of catches relative to white (n, classes): the ``display`` classes (for each of the red,
+    green and blue channels, the indices of its classes; a bee's UV, G and B) as linear RGB, (1, 1, 1) white.
+
+    A channel of several classes shows the one the receptor's ommatidium has
+    (the others' catches NaN, :func:`beeoptics.vision.receptorset.lacking`);
+    a channel none of whose classes it has shows dark.
+    """
+    relative = np.asarray(relative)
+    channels = [np.fmax.reduce(relative[..., list(classes)], axis=-1) for classes in display]
+    rgb = np.stack(channels, axis=-1)
+    return np.where(np.isnan(rgb) & ~np.isnan(relative).all(axis=-1, keepdims=True), 0.0, rgb)
 
 
 def encode(linear, scale=1.0):

@@ -11,6 +11,7 @@ import numpy as np
 from matplotlib import colormaps, patheffects
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 
 from beeoptics.eye.optics import angular_sensitivity
 from beeoptics.io.atomic import atomic_path
@@ -65,9 +66,11 @@ def relaxation(snapshots, iterations, diameter_um, boundary_xy, path, eye_name="
         dots = ax.scatter(*snapshots[k, :, :2].T, c=diameter_um[k], s=marker, vmin=lo, vmax=hi,
                           cmap="viridis", linewidths=0)
         stage = "initial grid" if k == 0 else "at rest" if k == s - 1 else "relaxing"
-        ax.set_title(f"{stage}, iteration {iterations[k]}", fontsize=9)
-    fig.colorbar(dots, ax=axes, label="target facet diameter, µm", shrink=0.8)
-    fig.suptitle(f"{eye_name}: facet lattice relaxation (Collins Fig. 7)")
+        ax.set_title("as measured, not relaxed" if s == 1 else f"{stage}, iteration {iterations[k]}", fontsize=9)
+    # One snapshot: an eye of given ommatidia (beeoptics.eye.given), drawn as they are.
+    fig.colorbar(dots, ax=axes, label="facet diameter, µm" if s == 1 else "target facet diameter, µm", shrink=0.8)
+    fig.suptitle(textwrap.fill(f"{eye_name}: " + ("the given ommatidia" if s == 1 else
+                                                  "facet lattice relaxation (Collins Fig. 7)"), 40 * s))
     save(fig, path)
 
 
@@ -429,4 +432,95 @@ def compass(rows, path, title):
     for ax in (left, right):
         ax.grid(color="0.85", linewidth=0.3)
     fig.suptitle(title, fontsize=9)
+    save(fig, path)
+
+
+#: Colours of the right eye's field, the left's and their overlap in :func:`eye_fields`.
+FIELD_COLOURS = {1: (0.85, 0.45, 0.2), 2: (0.25, 0.5, 0.8), 3: (0.35, 0.25, 0.45)}
+
+
+def eye_fields(fields, path, columns=3):
+    """Both eyes' fields of several eye classes, one equirectangular panel each, head azimuth.
+
+    Parameters
+    ----------
+    fields : dict of str to VisualField
+        Eye class to its field (:func:`beeoptics.eye.fieldofview.visual_field`).
+    """
+    from beeoptics.eye.fieldofview import extent
+
+    rows = -(-len(fields) // columns)
+    fig = Figure(figsize=(3.3 * columns, 1.95 * rows + 0.5), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(rows, columns, sharex=True, sharey=True)).ravel()
+    for ax, (name, field) in zip(axes, fields.items()):
+        rgb = np.full((*field.eyes.shape, 3), 0.93)
+        for bits, colour in FIELD_COLOURS.items():
+            rgb[field.eyes == bits] = colour
+        # Azimuth runs towards the left across the map, as a bee facing the reader sees it.
+        az = field.azimuth_deg
+        ax.imshow(rgb, extent=(az[0], az[-1], field.elevation_deg[-1], field.elevation_deg[0]), aspect="auto",
+                  interpolation="nearest")
+        sr = extent(field)
+        ax.set_title(f"{name}\n{sr['right_sr']:.2f} sr an eye, {sr['binocular_sr']:.2f} sr binocular", fontsize=7)
+        ax.set(xlim=(180, -180), ylim=(-90, 90), xticks=range(-180, 181, 90), yticks=range(-90, 91, 45))
+        ax.tick_params(labelsize=6)
+        ax.grid(color="0.6", linewidth=0.3)
+    for ax in axes[len(fields):]:
+        ax.set_visible(False)
+    fig.supxlabel("azimuth, ° (0 ahead, positive left)", fontsize=8)
+    fig.supylabel("elevation, °", fontsize=8)
+    fig.suptitle("Fields of view: right eye (orange), left eye (blue), both (purple); within Δρ/2 of an axis or "
+                 "inside the lattice", fontsize=8)
+    save(fig, path)
+
+
+#: Taylor et al.'s (2019) scaling exponents against body size (intertegular width) within B. terrestris:
+#: "We found a scaling exponent of 0.45 for eye surface area vs. ITW" (its square root, as all their areas:
+#: "by taking the square root of areas"), and "the visual field of a single eye (we found 0.17 ...) and the
+#: binocular regions (0.79 ...)".
+TAYLOR_EXPONENTS = {"sqrt_corneal_area_mm": 0.45, "right_sr": 0.17, "binocular_sr": 0.79}
+
+
+def allometry(rows, path, species="Bombus terrestris"):
+    """The bumblebees' eye size, fields and Δφ against body size, beside Taylor et al.'s (2019) published trends.
+
+    Each panel is log–log against intertegular width; a published exponent
+    is drawn through the bees' geometric mean, and the bees' own
+    least-squares exponent is given beside it. Facet counts are left out:
+    most of the specimens' counts are taken from Taylor et al.'s allometry
+    itself, so would only repeat it.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of the acuity table (:func:`beeoptics.pipeline.eyes.acuity_table`).
+    """
+    bees = [r for r in rows if r["species"] == species and np.isfinite(r["intertegular_width_mm"])]
+    panels = (("sqrt_corneal_area_mm", "√(corneal area), mm"), ("right_sr", "one eye's field, sr"),
+              ("binocular_sr", "binocular overlap, sr"), ("delta_phi_deg_p50", "median Δφ, °"))
+    fig = Figure(figsize=(10.0, 2.9), layout="constrained")
+    axes = fig.subplots(1, len(panels))
+    itw = np.array([r["intertegular_width_mm"] for r in bees])
+    for ax, (key, label) in zip(axes, panels):
+        y = np.array([np.sqrt(r["corneal_area_mm2"]) if key == "sqrt_corneal_area_mm" else r[key] for r in bees])
+        ok = np.isfinite(y) & (y > 0)
+        ax.set(xscale="log", yscale="log", xlabel="intertegular width, mm")
+        ax.set_title(label, fontsize=9)
+        if ok.sum() >= 2:
+            slope = np.polyfit(np.log(itw[ok]), np.log(y[ok]), 1)[0]
+            ax.plot(itw[ok], y[ok], "o", color="tab:orange", label=f"ours: exponent {slope:.2f}")
+            if key in TAYLOR_EXPONENTS:
+                x = np.geomspace(itw[ok].min(), itw[ok].max(), 20)
+                mid = np.exp(np.log(y[ok]).mean()) * (x / np.exp(np.log(itw[ok]).mean())) ** TAYLOR_EXPONENTS[key]
+                ax.plot(x, mid, color="0.3", linewidth=1, label=f"Taylor et al. 2019: {TAYLOR_EXPONENTS[key]:.2f}")
+            ax.legend(fontsize=7, frameon=False)
+        # Plain numbers at a close set of steps: the data span less than a decade.
+        ax.set_xticks([2, 3, 4, 5, 6], minor=False)
+        ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0)))
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_formatter(FormatStrFormatter("%g"))
+            axis.set_minor_formatter(NullFormatter())
+        ax.tick_params(labelsize=7)
+    fig.suptitle(f"{species}: the eyes built here on Taylor et al.'s (2019) scans against body size; fields "
+                 "from the corneal normals", fontsize=9)
     save(fig, path)

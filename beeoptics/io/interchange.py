@@ -51,7 +51,9 @@ camera pointing where the bee faces then renders the bee's view, and the
 right eye falls at +x and the left at −x of the file, the halves that
 CompoundRay's ``spherical_split_orientationwise`` projection shows on the
 right and on the left. ``frame="head"`` writes head-frame coordinates
-unchanged.
+unchanged; any other frame is named by the head direction of each of the
+file's axes (:func:`beeoptics.headframe.frame_axes`), as micro-CT eyes need:
+Taylor et al.'s (2019) are in the frame their scans were registered in.
 
 Acceptance angle. Δρ of a receptor table is the FWHM of Snyder's (1977)
 Gaussian A(θ) (see :mod:`beeoptics.eye.optics`), and CompoundRay's acceptance
@@ -71,6 +73,17 @@ facet diameter are not in the format. They are NaN unless given, and
 :func:`beeoptics.eye.receptors.measure_spacing` measures them from the
 neighbouring axes and positions. The focal point offset is kept as
 ``focal_offset_mm``.
+
+Tables of directions
+--------------------
+Some eye maps give each ommatidium's direction only: strawlab's
+digitisation of Buchner's (1971) map of *Drosophila* is a CSV of unit
+vectors, one ``x,y,z`` a line and no header, the left eye's 699 then the
+right eye's, their mirror (``drosophila_eye_map/precompute_buchner71_optics.py``).
+:func:`read_directions` reads such a file, names each half's eye, and
+places the receptors on a sphere of a given radius about a given centre
+(the right eye's; the left's is its mirror), so that they have positions;
+Δφ, Δρ and the facet diameter are NaN until measured or set.
 
 PLY point clouds
 ----------------
@@ -102,13 +115,11 @@ from pathlib import Path
 import numpy as np
 import open3d as o3d
 
-from beeoptics.headframe import SIDES
+from beeoptics.headframe import SIDES, frame_axes
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, ReceptorTable, checked
 
-#: Rows: the CompoundRay camera's right, up and forward axes in the head frame.
-CAMERA_FROM_HEAD = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 #: The eight fields of a line of a ``.eye`` file, as named in error messages.
 EYE_FIELDS = ("x", "y", "z", "dx", "dy", "dz", "acceptance_angle_rad", "focal_point_offset")
 #: File units per millimetre for the named units.
@@ -136,8 +147,8 @@ def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_co
         a file of both eyes is read as both.
     units : {"m", "mm"} or float
         Units of the file, or file units per millimetre.
-    frame : {"camera", "head"}
-        The file's frame (see the module notes).
+    frame : str
+        The file's frame: "camera", "head" or "x=…,y=…,z=…" (see the module notes).
     angle_convention : {"fwhm", "variance"}
         How the file's acceptance angle relates to Δρ (see the module notes).
     delta_phi_deg, facet_diameter_um : float, optional
@@ -187,6 +198,80 @@ def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_co
     ), path)
 
 
+def read_directions(path, halves=None, frame="head", radius_mm=None, centre_mm=None):
+    """Read a table of bare ommatidial directions, placed on a sphere, as a receptor table.
+
+    Parameters
+    ----------
+    path : str or Path
+        A text file of one direction a line, three numbers separated by
+        commas or spaces, no header.
+    halves : (str, str), optional
+        The eyes of the file's first and second halves, e.g. ("left",
+        "right"); by default each row's eye is the sign of its head-frame y
+        (negative: right), as :func:`read_compoundray_eye` finds it, which a
+        map whose axes cross the midline defeats.
+    frame : str
+        The file's frame (see the module notes).
+    radius_mm : float
+        The sphere the receptors are placed on: position = centre + radius · direction.
+    centre_mm : sequence of 3 floats
+        The right eye's sphere centre, head frame, mm; the left eye's is its mirror.
+
+    Returns
+    -------
+    ReceptorTable
+        ids 0 … n−1 in the file's order; Δφ, Δρ and the facet diameter NaN,
+        and so not yet a table :func:`~beeoptics.io.receptortable.checked`
+        passes: Δρ is set from the measured Δφ
+        (:func:`beeoptics.eye.receptors.measure_spacing`) or from a value.
+
+    Raises
+    ------
+    InputError
+        If the file is missing, a line does not hold three finite numbers, a
+        direction has zero length, or the halves are uneven.
+    """
+    path = Path(path)
+    _, rotation, _ = _conventions("mm", frame, "fwhm")
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except FileNotFoundError:
+        raise InputError(path, "", "no such file") from None
+    except UnicodeDecodeError:
+        raise InputError(path, "", "not a text file") from None
+    numbered = [(k, line.replace(",", " ").split()) for k, line in enumerate(lines, 1) if line.strip()]
+    if not numbered:
+        raise InputError(path, "", "holds no directions")
+    line = np.array([k for k, _ in numbered])
+    rows = []
+    for k, tokens in numbered:
+        try:
+            values = [float(v) for v in tokens]
+        except ValueError:
+            raise InputError(path, f"line {k}", f"{' '.join(tokens)!r} is not three numbers x, y, z") from None
+        if len(values) != 3 or not np.isfinite(values).all():
+            raise InputError(path, f"line {k}", f"holds {len(values)} values; a direction is three finite "
+                             "numbers x, y, z")
+        rows.append(values)
+    values = np.array(rows)
+    length = np.linalg.norm(values, axis=1)
+    _refuse(path, line, length == 0.0, "direction", "has zero length; an ommatidium needs an axis")
+    axis = values / length[:, None] @ rotation
+    n = len(axis)
+    if halves is not None:
+        if n % 2:
+            raise InputError(path, "", f"holds {n} directions, which do not split into two halves")
+        sides = np.repeat(np.asarray(halves), n // 2)
+    else:
+        sides = np.where(axis[:, 1] < 0.0, SIDES[0], SIDES[1])
+    centre = np.tile(np.asarray(centre_mm, float), (n, 1))
+    centre[sides != SIDES[0], 1] *= -1.0
+    nan = np.full(n, np.nan)
+    return ReceptorTable(id=np.arange(n), side=sides, position=centre + float(radius_mm) * axis, axis=axis,
+                         facet_diameter_um=nan, delta_phi_deg=nan.copy(), delta_rho_deg=nan.copy())
+
+
 def write_compoundray_eye(path, table, side=None, units="mm", frame="camera", angle_convention="fwhm",
                           focal_offset_mm=0.0):
     """Write a receptor table, or one side of it, as a CompoundRay ``.eye`` file, atomically.
@@ -202,8 +287,8 @@ def write_compoundray_eye(path, table, side=None, units="mm", frame="camera", an
         Write only that eye; by default every row, in the table's order.
     units : {"m", "mm"} or float
         Units of the file, or file units per millimetre.
-    frame : {"camera", "head"}
-        The file's frame (see the module notes).
+    frame : str
+        The file's frame: "camera", "head" or "x=…,y=…,z=…" (see the module notes).
     angle_convention : {"fwhm", "variance"}
         Acceptance angle = Δρ, or √2·Δρ for the same angular variance (see
         the module notes).
@@ -353,11 +438,9 @@ def _conventions(units, frame, angle_convention):
         scale = float(units)
         if not (np.isfinite(scale) and scale > 0.0):
             raise ValueError(f"units must be a positive number of file units per mm, not {units!r}")
-    if frame not in ("camera", "head"):
-        raise ValueError(f"frame must be 'camera' or 'head', not {frame!r}")
+    rotation = frame_axes(frame)
     if angle_convention not in ANGLE_FACTOR:
         raise ValueError(f"angle_convention must be one of {sorted(ANGLE_FACTOR)}, not {angle_convention!r}")
-    rotation = CAMERA_FROM_HEAD if frame == "camera" else np.eye(3)
     return scale, rotation, ANGLE_FACTOR[angle_convention]
 
 

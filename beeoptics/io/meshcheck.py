@@ -32,6 +32,7 @@ Khronos Group (2021) glTF 2.0 Specification, version 2.0.1, ยง3.6 Geometry and ย
 import base64
 import json
 import struct
+import warnings
 from pathlib import Path
 
 import meshio
@@ -133,7 +134,7 @@ def read_ply(path):
             colours = corners[faces][:, 0]
     uv = None
     if PLY_FACE_UV in face.dtype.names:
-        uv = _lists(face[PLY_FACE_UV], 6, path, "texcoord lists hold six numbers, u and v of each corner")
+        uv = _lists(face[PLY_FACE_UV], 6, path, PLY_FACE_UV, "texcoord lists hold six numbers, u and v of each corner")
         uv = uv.astype(float).reshape(-1, 3, 2)
     else:
         names = next((pair for pair in PLY_VERTEX_UV if set(pair) <= set(vertex.dtype.names)), None)
@@ -150,13 +151,19 @@ def _ply_data(path):
     # a fraction of a second) while it still checks every list's length.
     known = {"face": {**{name: 3 for name in PLY_CORNERS}, PLY_FACE_UV: 6}}
     try:
-        data = plyfile.PlyData.read(str(path), known_list_len=known)
+        with warnings.catch_warnings():
+            # numpy's loadtxt warns of an ASCII element with no rows: the checks below refuse what matters.
+            warnings.simplefilter("ignore", UserWarning)
+            data = plyfile.PlyData.read(str(path), known_list_len=known)
     except plyfile.PlyElementParseError as e:
         if "unexpected list length" in str(e) and e.prop is not None and e.prop.name in PLY_CORNERS:
             raise InputError(path, f"face {e.row + 1}", "faces must be triangles; this one is not") from None
         raise InputError(path, "", f"cannot read mesh: {' '.join(str(e).split())}") from None
-    except (plyfile.PlyParseError, ValueError, TypeError, IndexError, OSError) as e:
+    except (plyfile.PlyParseError, ValueError, TypeError, IndexError, OverflowError, OSError) as e:
         raise InputError(path, "", f"cannot read mesh: {' '.join(str(e).split()) or type(e).__name__}") from None
+    except MemoryError:
+        # plyfile makes room for the elements the header declares before it reads them.
+        raise InputError(path, "", "cannot read mesh: its header declares more elements than memory holds") from None
     for element in ("vertex", "face"):
         if element not in data:
             raise InputError(path, element, f"the file has no {element} element")
@@ -184,14 +191,17 @@ def _ply(data, path):
     if corners is None:
         raise InputError(path, "face", f"faces need a corner list ({' or '.join(PLY_CORNERS)})")
     vertices = np.column_stack([vertex[c] for c in ("x", "y", "z")]).astype(float).reshape(-1, 3)
-    faces = _lists(face[corners], 3, path, "faces must be triangles; this one is not")
+    faces = _lists(face[corners], 3, path, corners, "faces must be triangles; this one is not")
     if faces.dtype.kind not in "iu":
         raise InputError(path, "face", f"corner indices must be integers, not {faces.dtype}")
     return vertices, faces.astype(np.int64)
 
 
-def _lists(values, width, path, refusal):
-    """A PLY list property of each face as an array (m, width); a face whose list is not ``width`` long refused."""
+def _lists(values, width, path, name, refusal):
+    """The PLY list property ``name`` of each face as an array (m, width); a face whose list is not ``width``
+    long refused with ``refusal``."""
+    if values.ndim != 2 and values.dtype != object:
+        raise InputError(path, "face", f"{name} must be a list property")
     if values.dtype == object:
         # ASCII files: plyfile reads each face's list on its own (a binary file's, at a known length, at once).
         lengths = np.array([len(v) for v in values])

@@ -77,6 +77,11 @@ class ReceptorTable(NamedTuple):
                 "delta_rho_deg": self.delta_rho_deg, **rim}
 
 
+def rows_of(table, rows):
+    """The receptors ``rows`` (indices or a mask) of a table, every column taken alike."""
+    return ReceptorTable(*(None if column is None else np.asarray(column)[rows] for column in table))
+
+
 def write_receptors(path, table):
     """Write a :class:`ReceptorTable` as ``receptors.csv``, atomically."""
     write_table(path, table.columns())

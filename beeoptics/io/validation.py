@@ -214,6 +214,8 @@ def _check_folders(config, source):
                   for f, flight in config.get("flights", {}).items()
                   for i, n in enumerate(flight["eyes"] if key == "eyes" else [flight["scene"]])]
         named += [(f"polarisation.{key}.{i}", n) for i, n in enumerate(config["polarisation"][key])]
+        named += [(f"comparison.eyes.{i}", n) for i, n in enumerate(config["comparison"]["eyes"] if key == "eyes"
+                                                                      else [])]
         for field, name in named:
             if not (root / name / filename).is_file():
                 found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))

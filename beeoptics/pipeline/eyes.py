@@ -14,12 +14,15 @@ from scipy.spatial import cKDTree
 from beeoptics.eye.acuity import acuity
 from beeoptics.eye.build import build_eye
 from beeoptics.eye import fieldmodel
-from beeoptics.eye.description import load_eye, load_eye_mesh
+from beeoptics.eye.cornea import measured_normals
+from beeoptics.eye.description import cornea_points, load_eye, load_eye_mesh
+from beeoptics.eye.given import build_given, given_right_eye, surface
 from beeoptics.eye.fieldofview import visual_field
 from beeoptics.eye.lattice import kernel_mean
 from beeoptics.eye.remesh import remesh, target_edge_mm
 from beeoptics.images import figures
 from beeoptics.io.atomic import atomic_path, write_json
+from beeoptics.io.errors import InputError
 from beeoptics.io.meshfile import read_mesh_normals, write_mesh
 from beeoptics.io.receptortable import read_receptors, write_receptors
 from beeoptics.headframe import RIGHT
@@ -40,18 +43,32 @@ def remesh_eye(eye_file, outputs, *, edge_fraction=0.5, subdivisions=2):
     eye's anchors (:func:`beeoptics.eye.remesh.target_edge_mm`).
     """
     eye = load_eye(eye_file)
+    if eye.ommatidia_path is not None:
+        # Given ommatidia are not relaxed on a surface: theirs is their own triangulation, kept as it is.
+        write_mesh(outputs["remeshed"], *surface(eye, given_right_eye(eye.ommatidia_path, eye.path, "ommatidia.file")))
+        return
     vertices, faces = load_eye_mesh(eye)
-    write_mesh(outputs["remeshed"], *remesh(vertices, faces, target_edge_mm(eye, edge_fraction),
-                                            subdivisions=subdivisions))
+    if eye.cornea_path is None:
+        write_mesh(outputs["remeshed"], *remesh(vertices, faces, target_edge_mm(eye, edge_fraction),
+                                                subdivisions=subdivisions))
+        return
+    # A measured cornea's reconstruction is smooth and fine already: it is not subdivided, and its
+    # normals are the measured ones (beeoptics.eye.cornea.measured_normals).
+    vertices, faces, _ = remesh(vertices, faces, target_edge_mm(eye, edge_fraction), subdivisions=0)
+    points, normals = cornea_points(eye)
+    write_mesh(outputs["remeshed"], vertices, faces, measured_normals(points, normals, vertices))
 
 
-def build_facets(eye_file, remeshed_ply, outputs, *, tolerance_um, acceptance, progress=None):
+def build_facets(eye_file, remeshed_ply, outputs, *, tolerance_um, acceptance, progress=None, as_given=False):
     """Place and relax the facets on the remeshed eye and describe every receptor.
 
     Writes ``receptors`` (the receptor table of both eyes), ``quality``
     (JSON) and ``relaxation`` (the lattice's snapshots, npz); see
-    :func:`beeoptics.eye.build.build_eye`. Logs, and returns, the
-    relaxation's wall time in seconds.
+    :func:`beeoptics.eye.build.build_eye`. An eye of given ommatidia is
+    built from them instead (:func:`beeoptics.eye.given.build_given`), and
+    so, with ``as_given``, is a measured cornea's eye, each of its points a
+    receptor with the file's Δρ. Logs, and returns, the relaxation's wall
+    time in seconds.
 
     Parameters
     ----------
@@ -61,7 +78,15 @@ def build_facets(eye_file, remeshed_ply, outputs, *, tolerance_um, acceptance, p
         How the receptors' Δρ is set.
     """
     eye = load_eye(eye_file)
-    built = build_eye(eye, *read_mesh_normals(remeshed_ply), tolerance_um, acceptance, progress=progress)
+    if as_given and eye.cornea_path is None:
+        raise InputError(eye_file, "cornea", "only a measured cornea's points can be built as given")
+    if eye.ommatidia_path is not None:
+        built = build_given(eye, given_right_eye(eye.ommatidia_path, eye.path, "ommatidia.file"), acceptance)
+    elif as_given:
+        built = build_given(eye, given_right_eye(eye.cornea_path, eye.path, "cornea.file"), acceptance,
+                            keep_delta_rho=True)
+    else:
+        built = build_eye(eye, *read_mesh_normals(remeshed_ply), tolerance_um, acceptance, progress=progress)
     write_receptors(outputs["receptors"], built.receptors)
     write_json(outputs["quality"], built.quality)
     with atomic_path(outputs["relaxation"]) as tmp:
@@ -115,21 +140,41 @@ def eye_figures(eye_file, relaxation_npz, receptors_csv, quality_json, outputs):
 
 
 def acuity_table(eyes, outputs, *, width_px=720):
-    """``outputs["acuity"]``: the acuity of each eye class, one row each (:func:`beeoptics.eye.acuity.acuity`).
+    """Compare eye classes: ``outputs["acuity"]``, one row each, and ``outputs["fields"]``, a figure of their fields.
 
-    The Rayleigh limit is given at each receptor class's peak; a column of
-    a class another species lacks is empty in its row.
+    A row holds the eye's species and specimen (its intertegular width,
+    where the eye.yaml gives it), facets an eye, the eye's length and
+    corneal area and the single-eye field published for it (quality.json),
+    and its acuity (:func:`beeoptics.eye.acuity.acuity`), with the Rayleigh
+    limit at each receptor class's peak; a column of a class another
+    species lacks is empty in its row. ``outputs["allometry"]``, if asked
+    for, plots the bumblebees' fields, Δφ and facets against body size
+    beside the trends Taylor et al. (2019) publish
+    (:func:`beeoptics.images.figures.allometry`).
 
     Parameters
     ----------
-    eyes : dict of str to (path, path)
-        Eye class to its eye.yaml and its receptor table.
+    eyes : dict of str to (path, path, path)
+        Eye class to its eye.yaml, its receptor table and its quality.json.
     """
-    rows = []
-    for name, (eye_file, csv) in eyes.items():
+    rows, fields_seen = [], {}
+    for name, (eye_file, csv, quality_json) in eyes.items():
+        eye, table = load_eye(eye_file), read_receptors(csv)
+        quality = json.loads(Path(quality_json).read_text())
         receptor_set = receptor_set_of(eye_file)
-        rows.append({"eye": name, **acuity(read_receptors(csv), dict(zip(receptor_set.classes, peaks_nm(receptor_set))),
-                                          width_px)})
+        row = {"eye": name, "species": eye.document.get("species", ""),
+               "intertegular_width_mm": eye.document.get("specimen", {}).get("intertegular_width_mm", np.nan),
+               "facets_per_eye": quality["facets_per_eye"], "facets_published": quality["facets_published"],
+               "eye_length_mm": quality["size"]["eye_length_mm"],
+               "corneal_area_mm2": quality["size"]["corneal_area_mm2"],
+               "field_fraction_published": eye.published.get("field_fraction", {}).get("value", np.nan)}
+        row.update(acuity(table, dict(zip(receptor_set.classes, peaks_nm(receptor_set))), width_px))
+        rows.append(row)
+        fields_seen[name] = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, width_px)
     keys = list(dict.fromkeys(k for r in rows for k in r))
-    write_table(outputs["acuity"], {k: [r[k] for r in rows] if k == "eye" else
+    text = ("eye", "species")
+    write_table(outputs["acuity"], {k: [r[k] for r in rows] if k in text else
                                     np.array([r.get(k, np.nan) for r in rows]) for k in keys})
+    figures.eye_fields(fields_seen, outputs["fields"])
+    if "allometry" in outputs:
+        figures.allometry(rows, outputs["allometry"])

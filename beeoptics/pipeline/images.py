@@ -87,7 +87,8 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
 
 def display_words(receptor_set):
     """map3's channels in words: "red UV, green G, blue B"."""
-    return ", ".join(f"{c} {receptor_set.classes[k]}" for c, k in zip(("red", "green", "blue"), receptor_set.display))
+    return ", ".join(f"{c} {' or '.join(receptor_set.classes[k] for k in ks)}"
+                     for c, ks in zip(("red", "green", "blue"), receptor_set.display))
 
 
 def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, outputs, *, receptor_set,
@@ -128,6 +129,8 @@ def colour_figures(responses_csv, irradiance_npz, outputs, *, receptor_set, titl
     scene's sky and sun, and the figure's legend states the range.
     ``outputs`` maps ``triangle`` and ``hexagon`` (as the set has them) to PNG paths.
     """
+    if not outputs:  # a set without the bee colour spaces (not a trichromat's): nothing to draw
+        return
     columns = [c for space, names in (("triangle", ["tri_x", "tri_y"]), ("hexagon", ["hex_x", "hex_y"]))
                if space in outputs for c in names]
     resp, data, _, (_, _, srgb) = _responses(responses_csv, irradiance_npz, receptor_set, columns)

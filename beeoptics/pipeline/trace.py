@@ -27,7 +27,7 @@ from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.colourspace import colour_coordinates
 from beeoptics.vision.human import srgb, tristimulus
-from beeoptics.vision.receptorset import SPECIES, curves, overall
+from beeoptics.vision.receptorset import SPECIES, curves, lacking, ommatidium_types, overall
 
 #: Percentile of the human view's luminance shown as white.
 HUMAN_WHITE_PERCENTILE = 99.0
@@ -175,7 +175,12 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
         raise InputError(scene_file, "colour.background",
                          f"the background {background!r} gives no catch in some receptor class; "
                          "von Kries adaptation needs a background every class sees")
-    columns = {"id": table.id, "side": table.side, **{r: catches[:, k] for k, r in enumerate(receptor_set.classes)}}
+    types = ommatidium_types(receptor_set, len(table.id))
+    catches[lacking(receptor_set, types)] = np.nan
+    columns = {"id": table.id, "side": table.side}
+    if types is not None:
+        columns["ommatidium"] = np.array([receptor_set.mosaic[k][0] for k in types])
+    columns.update({r: catches[:, k] for k, r in enumerate(receptor_set.classes)})
     brightness = overall(receptor_set, wl, sens)
     if brightness is not None:
         columns["brightness"] = quantum_catches(irradiance, (brightness / brightness.sum())[:, None], wl)[:, 0]

@@ -18,6 +18,11 @@ user's own beside the eye, checked against
   bee colour spaces that apply (the triangle and hexagon to trichromats,
   Backhaus's COC to the honey bee for which it was fitted);
 - map3's display: which class shows as red, green and blue (Collins §4.4);
+  a channel may list several classes, of which an ommatidium has one;
+- optionally a mosaic: ommatidial types, each with its own classes, spread
+  at random in their published shares (a fly's pale and yellow ommatidia;
+  :func:`ommatidium_types`); a receptor's catches of the classes its type
+  lacks are NaN;
 - optionally the light-adapted overall sensitivity (von Helversen 1972, the
   honey bee) and the class whose microvilli analyse polarisation in the
   dorsal rim.
@@ -52,6 +57,11 @@ DEFAULT_SET = "apis_mellifera"
 SPECIES, TEMPLATE = "species", "template"
 #: The display channels of map3, in RGB order.
 DISPLAY = ("red", "green", "blue")
+#: The seed of a mosaic's draw: a fixed one, so that an eye's ommatidia keep their types in every
+#: scene and run, as an animal's do (the config's seed draws the rays, not the animal).
+MOSAIC_SEED = 20060309
+#: How far a mosaic's shares may sum from one (they are published as rounded percentages).
+SHARE_TOLERANCE = 1e-6
 
 
 class ReceptorSet(NamedTuple):
@@ -61,7 +71,9 @@ class ReceptorSet(NamedTuple):
     ``chromatic`` (indices into ``classes``) are the classes colour vision
     compares, with their relative numbers ``densities`` and noise ``weber``
     (Weber fractions, None where not published); ``display`` the indices
-    shown as red, green and blue; ``overall`` None or (peaks_nm, ratio).
+    shown in each of red, green and blue (one or, with a mosaic, several
+    each); ``overall`` None or (peaks_nm, ratio); ``mosaic`` None or a tuple
+    of (type name, class indices, share).
     """
 
     name: str
@@ -76,9 +88,10 @@ class ReceptorSet(NamedTuple):
     densities: np.ndarray | None
     weber: np.ndarray | None
     spaces: tuple
-    display: np.ndarray
+    display: tuple
     overall: tuple | None
     polarisation: int | None
+    mosaic: tuple | None
     document: dict
 
     @property
@@ -159,16 +172,62 @@ def load_receptor_set(spec=DEFAULT_SET, base=None, source=None, field="receptors
         raise InputError(path, "classes", "without a curves file every class needs its lambda_max_nm (the A1 "
                          "template is drawn at it)")
     overall = doc.get("overall_sensitivity")
+    display = []
+    for c in DISPLAY:
+        names = doc["display"][c] if isinstance(doc["display"][c], list) else [doc["display"][c]]
+        display.append(tuple(index(n, f"display.{c}") for n in names))
     return ReceptorSet(
         name=doc["name"], species=doc["species"], path=path, classes=classes, lambda_max_nm=lam,
         curves_file=curves_file, curves_source=curves["source"],
         achromatic=index(doc["achromatic"]["class"], "achromatic.class"), chromatic=chromatic,
         densities=densities, weber=weber, spaces=spaces,
-        display=np.array([index(doc["display"][c], f"display.{c}") for c in DISPLAY]),
+        display=tuple(display),
         overall=None if overall is None else (tuple(overall["peaks_nm"]), tuple(overall["ratio"])),
         polarisation=None if "polarisation" not in doc else index(doc["polarisation"]["class"], "polarisation.class"),
+        mosaic=_mosaic(doc.get("mosaic"), index, path),
         document=doc,
     )
+
+
+def _mosaic(spec, index, path):
+    if spec is None:
+        return None
+    types = tuple((t["name"], tuple(index(c, f"mosaic.types.{i}.classes") for c in t["classes"]), t["share"])
+                  for i, t in enumerate(spec["types"]))
+    total = sum(share for *_, share in types)
+    if abs(total - 1.0) > SHARE_TOLERANCE:
+        raise InputError(path, "mosaic.types", f"the types' shares sum to {total:g}, not 1")
+    named = [k for _, classes, _ in types for k in classes]
+    if len(named) != len(set(named)):
+        raise InputError(path, "mosaic.types", "a class belongs to two types; each class is of one type, "
+                         "or of every ommatidium (left out of the types)")
+    return types
+
+
+def ommatidium_types(receptor_set, count):
+    """Each of ``count`` receptors' ommatidial type (indices into ``receptor_set.mosaic``), or None without a mosaic.
+
+    Drawn independently for each receptor in its share, as the fly's pale and
+    yellow ommatidia are spread at random (Wernet et al. 2006), from
+    :data:`MOSAIC_SEED`, so that receptor ``k`` of a table has the same type in
+    every run.
+    """
+    if receptor_set.mosaic is None:
+        return None
+    shares = np.cumsum([share for *_, share in receptor_set.mosaic])
+    draw = np.random.default_rng(MOSAIC_SEED).random(count)
+    return np.minimum(np.searchsorted(shares / shares[-1], draw, side="right"), len(shares) - 1)
+
+
+def lacking(receptor_set, types):
+    """(receptors, classes) mask of the classes each receptor's ommatidium lacks (none without a mosaic)."""
+    mask = np.zeros((0 if types is None else len(types), len(receptor_set.classes)), bool)
+    if types is None:
+        return mask
+    for k, (_, classes, _) in enumerate(receptor_set.mosaic):
+        others = [c for j, (_, cs, _) in enumerate(receptor_set.mosaic) if j != k for c in cs]
+        mask[np.ix_(types == k, others)] = True
+    return mask
 
 
 def receptor_set_of(eye_yaml):

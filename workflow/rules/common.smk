@@ -92,7 +92,7 @@ def all_targets():
         "results/eyes/{eye}/figures/{name}.png",
         eye=config["eyes"],
         name=["relaxation", "delta_phi", "facet_diameter", "acceptance", "field_of_view"],
-    ) + ["results/eyes/acuity.csv"] + [f"results/figures/sensitivities/{name}.png"
+    ) + ["results/eyes/acuity.csv", "results/eyes/fields.png"] + [f"results/figures/sensitivities/{name}.png"
                                        for name in dict.fromkeys(RECEPTOR_SETS[e].name for e in config["eyes"])]
     views = [f"results/{eye}/{scene}/{name}" for eye in config["eyes"] for scene in config["scenes"]
              for name in ["responses.csv", "irradiance.npz", *eye_images(eye)]]

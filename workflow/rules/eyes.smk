@@ -1,4 +1,5 @@
-# Eye stages: remesh the hand-made mesh, then place and relax the facet lattice.
+# Eye stages: remesh the hand-made mesh (or reconstruct the measured cornea), then place and relax the
+# facet lattice; compare the eyes.
 # They depend on the eye's folder only, never on a scene.
 
 
@@ -58,18 +59,40 @@ rule eye_figures:
         "../scripts/eye_figures.py"
 
 
+def acuity_inputs(eyes):
+    return {"receptors": expand("results/eyes/{eye}/receptors.csv", eye=eyes),
+            "quality": expand("results/eyes/{eye}/quality.json", eye=eyes),
+            "eyes": expand(str(EYES_DIR / "{eye}" / "eye.yaml"), eye=eyes)}
+
+
 rule acuity:
     input:
-        receptors=expand("results/eyes/{eye}/receptors.csv", eye=config["eyes"]),
-        eyes=expand(str(EYES_DIR / "{eye}" / "eye.yaml"), eye=config["eyes"]),
+        **acuity_inputs(config["eyes"]),
     output:
         acuity=report("results/eyes/acuity.csv", caption="../report/acuity.rst", category="Eyes"),
+        fields=report("results/eyes/fields.png", caption="../report/fields.rst", category="Eyes"),
     params:
         eyes=config["eyes"],
-        eye_files=expand(str(EYES_DIR / "{eye}" / "eye.yaml"), eye=config["eyes"]),
         width_px=config["images"]["visual_field_width_px"],
     log:
         "results/logs/acuity.log",
+    script:
+        "../scripts/acuity.py"
+
+
+rule comparison:
+    input:
+        **acuity_inputs(config["comparison"]["eyes"]),
+    output:
+        acuity=report("results/comparison/acuity.csv", caption="../report/acuity.rst", category="Comparison"),
+        fields=report("results/comparison/fields.png", caption="../report/fields.rst", category="Comparison"),
+        allometry=report("results/comparison/allometry.png", caption="../report/allometry.rst",
+                         category="Comparison"),
+    params:
+        eyes=config["comparison"]["eyes"],
+        width_px=config["images"]["visual_field_width_px"],
+    log:
+        "results/logs/comparison.log",
     script:
         "../scripts/acuity.py"
 
