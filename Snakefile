@@ -43,6 +43,7 @@ include: "workflow/rules/images.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/flights.smk"
 include: "workflow/rules/polarisation.smk"
+include: "workflow/rules/detection.smk"
 
 
 rule all:

@@ -317,7 +317,8 @@ def meadow(args):
     from beeoptics.world.species import species_table
     from beeoptics.pipeline.world import generate_meadow
 
-    counts = generate_meadow(args.meadow_file, {"mesh": args.output})
+    counts = generate_meadow(args.meadow_file, {"mesh": args.output, **({"flowers": args.flowers} if args.flowers
+                                                                       else {})})
     print(f"{args.output}: {sum(counts.values())} triangles ({', '.join(f'{k} {v}' for k, v in counts.most_common())})")
     described = read_meadow(args.meadow_file)
     table = species_table(described["species"])
@@ -587,10 +588,13 @@ def parser():
             sub.choices[command].add_argument(option, type=kind, default=reduce(dict.get, key.split("."),
                                               schema_defaults()), help=f"{text} (default: %(default)s)")
 
-    p = sub.add_parser("meadow", help="generate a meadow's mesh from its meadow.yaml", description=meadow.__doc__)
+    p = sub.add_parser("meadow", help="generate a meadow's mesh (and its flowers) from its meadow.yaml",
+                       description=meadow.__doc__)
     p.add_argument("meadow_file", metavar="MEADOW_YAML", help="meadow description, e.g. scenes/meadow/meadow.yaml")
     p.add_argument("-o", "--output", required=True, metavar="PLY", type=Path,
                    help="the mesh to write (binary PLY with each part's colour on its faces' corners)")
+    p.add_argument("--flowers", metavar="CSV", type=Path, help="also write the table of its flowers: species, "
+                   "the sphere about each (x_m, y_m, z_m, radius_m) and the way it faces (facing_x, _y, _z)")
     p.set_defaults(run=meadow)
     p = sub.add_parser("convert", parents=[eyefile], help="convert receptors between .csv, .eye and .ply",
                        description=convert.__doc__)

@@ -108,7 +108,7 @@ def default_config():
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
     cfg.update(eyes=["tiny"], scenes=["open"], eyes_dir=str(DATA / "eyes"), scenes_dir=str(DATA / "scenes"),
                flights={"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"]}},
-               polarisation={"eyes": [], "scenes": []}, comparison={"eyes": []})
+               polarisation={"eyes": [], "scenes": []}, comparison={"eyes": []}, detection={"eyes": [], "scenes": []})
     return cfg
 
 
@@ -434,6 +434,20 @@ def test_a_flight_with_a_missing_file_eye_or_scene_is_named(tmp_path, change, fi
 def test_polarisation_of_an_eye_without_a_dorsal_rim_or_of_a_missing_scene_is_named(tmp_path, change, field, says):
     cfg = default_config()
     change(cfg.setdefault("polarisation", {}))
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert says in assert_names(e, tmp_path / "config.yaml", field)
+
+
+@pytest.mark.parametrize("change, field, says", [
+    (lambda d: d.update(scenes=["open"]), "detection.scenes.0", "has no meadow.yaml"),
+    (lambda d: d.update(eyes=["tinny"]), "detection.eyes.0", "no eye 'tinny'"),
+    (lambda d: d.update(directions=0), "detection.directions", "minimum"),
+])
+def test_a_detection_survey_of_a_scene_without_a_meadow_or_of_a_missing_eye_is_named(tmp_path, change, field, says):
+    cfg = default_config()
+    cfg["detection"] = {"eyes": ["tiny"], "scenes": ["generated"]}
+    change(cfg["detection"])
     with pytest.raises(InputError) as e:
         validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
     assert says in assert_names(e, tmp_path / "config.yaml", field)

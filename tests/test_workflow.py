@@ -48,6 +48,8 @@ def workdir(tmp_path_factory):
                              "samples_per_receptor": 4, "target": {"position_m": [0.1, 0.0, 0.12], "radius_m": 0.02},
                              "human_view": {"width_px": 40, "height_px": 30, "samples_per_pixel": 1}}},
         "comparison": {"eyes": ["tiny", "drosophila_melanogaster"]},
+        "detection": {"eyes": ["tiny"], "scenes": ["generated"], "flowers_per_species": 1, "directions": 2,
+                      "distances": {"steps": 4}, "samples_per_receptor": 4, "depth": 1},
         "polarisation": {"eyes": ["tiny"], "scenes": ["flower"], "samples_per_receptor": 8,
                          "compass": {"headings": 8, "turbidities": [5], "heights_m": [0.02]}},
     }
@@ -75,8 +77,12 @@ def test_every_artifact_is_written(workdir):
         for name in ("human.png", "human.exr"):
             assert (workdir / "results" / "scenes" / scene / name).stat().st_size > 0
     assert (workdir / "scenes" / "generated" / "meadow.ply").stat().st_size > 0
-    for name in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png"):
+    for name in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png", "detection.csv",
+                 "detection.json", "detection.png"):
         assert (workdir / "results" / "flights" / "dive" / "tiny" / name).stat().st_size > 0
+    assert (workdir / "scenes" / "generated" / "meadow_flowers.csv").stat().st_size > 0
+    for name in ("tiny/detection.csv", "tiny/views.csv", "summary.csv", "detection.png"):
+        assert (workdir / "results" / "detection" / "generated" / name).stat().st_size > 0
     for name in ("polarisation.csv", "field.png", "retina.png", "dorsal_rim.png", "compass.csv", "compass.json",
                  "compass.png"):
         assert (workdir / "results" / "tiny" / "flower" / "polarisation" / name).stat().st_size > 0
@@ -267,3 +273,23 @@ def test_the_comparison_target_builds_and_compares_its_eyes(workdir):
     out = workdir / "results" / "comparison"
     assert read_table(out / "acuity.csv")["eye"].tolist() == ["tiny", "drosophila_melanogaster"]
     assert (out / "fields.png").stat().st_size > 0 and (out / "allometry.png").stat().st_size > 0
+
+
+def test_the_survey_approaches_each_species_and_the_flight_detects_its_flower(workdir):
+    survey = workdir / "results" / "detection" / "generated"
+    approaches = read_table(survey / "tiny" / "detection.csv", text=["species"])
+    # One flower of each of the meadow's two species, from two directions.
+    assert sorted(approaches["species"]) == ["campanula_rotundifolia"] * 2 + ["leucanthemum_vulgare"] * 2
+    views = read_table(survey / "tiny" / "views.csv", text=["species"])
+    assert len(views["distance_m"]) == 4 * 4 and (views["receptors_touched"] >= 0).all()
+    summary = read_table(survey / "summary.csv", text=["species", "eye"])
+    assert list(summary["eye"]) == ["tiny", "tiny"]
+    detection = read_table(workdir / "results" / "flights" / "dive" / "tiny" / "detection.csv")
+    target = read_table(workdir / "results" / "flights" / "dive" / "tiny" / "target.csv")
+    np.testing.assert_allclose(detection["distance_m"], target["distance_m"])
+    np.testing.assert_allclose(detection["angular_diameter_deg"], target["angular_diameter_deg"])
+    # 10 cm from a 4 cm head the flower fills some receptors' acceptance.
+    assert (detection["receptors_touched"] > 0).all() and (detection["cover_max"] > 0).all()
+    first = json.loads((workdir / "results" / "flights" / "dive" / "tiny" / "detection.json").read_text())
+    assert set(first) == {"achromatic_detectable", "chromatic_detectable", "receptors_green_above_threshold",
+                          "receptors_colour_above_threshold"}

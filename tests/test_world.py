@@ -3,12 +3,13 @@
 import numpy as np
 import pytest
 import yaml
+from scipy.spatial import cKDTree
 
 from beeoptics.io.errors import InputError
 from beeoptics.world import placement, plants, terrain
 from beeoptics.world.flight import (Flight, approach, azimuth_elevation_components, disc_angular_diameter, disc_hits,
                                     frame_times, optic_flow, pose, read_flight)
-from beeoptics.world.meadow import generate, read_meadow, write_ply
+from beeoptics.world.meadow import FLOWER_COLUMNS, flower_table, generate, read_meadow, write_ply
 from beeoptics.world.species import PARTS, plant, species_table
 from conftest import ROOT
 
@@ -73,7 +74,7 @@ def test_the_ground_has_the_asked_roughness_and_correlation_length():
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
     meadow = read_meadow(TINY / "meadow.yaml")
-    mesh, colours = generate(meadow, TINY / "meadow.yaml")
+    mesh, colours, _ = generate(meadow, TINY / "meadow.yaml")
     out = tmp_path_factory.mktemp("meadow") / "meadow.ply"
     write_ply(out, mesh, colours)
     return meadow, mesh, colours, out
@@ -82,12 +83,12 @@ def tiny(tmp_path_factory):
 def test_a_meadow_is_the_same_for_the_same_seed_and_a_new_species_leaves_the_rest(tiny, tmp_path):
     meadow, mesh, colours, out = tiny
     again = tmp_path / "again.ply"
-    write_ply(again, *generate(read_meadow(TINY / "meadow.yaml"), TINY / "meadow.yaml"))
+    write_ply(again, *generate(read_meadow(TINY / "meadow.yaml"), TINY / "meadow.yaml")[:2])
     assert again.read_bytes() == out.read_bytes()
     more = read_meadow(TINY / "meadow.yaml")
     more["plants"].append({"species": "echium_vulgare", "density_per_m2": 20.0, "per_clump": 1.0, "spread_m": 0.1,
                            "variants": 2})
-    bigger, _ = generate(more, "meadow.yaml")
+    bigger, _, _ = generate(more, "meadow.yaml")
     assert len(bigger.faces) > len(mesh.faces)
     np.testing.assert_array_equal(bigger.vertices[:len(mesh.vertices)], mesh.vertices)
 
@@ -193,11 +194,23 @@ def test_a_bad_flight_is_one_line_naming_the_field(tmp_path, text, field):
 
 def test_the_default_meadow_has_a_million_triangles_and_every_species_flowers():
     meadow = read_meadow(ROOT / "scenes" / "meadow" / "meadow.yaml")
-    mesh, colours = generate(meadow, "meadow.yaml")
+    mesh, colours, flowering = generate(meadow, "meadow.yaml")
     assert len(mesh.faces) >= 1_000_000
     species = {p.split(".")[0] for p in mesh.parts}
     assert species >= {"grass", "soil", "leucanthemum_vulgare", "taraxacum_officinale", "achillea_millefolium",
                        "campanula_rotundifolia", "echium_vulgare"}
+    # Every species' flowers are listed, each where its petals are: the sphere about it holds some of them.
+    assert set(flowering) == species - {"grass", "soil"}
+    table = flower_table(mesh, flowering)
+    flower_parts = {p for parts in PARTS.values() for p in parts} - {"stem", "leaf"}
+    petals = np.isin(mesh.parts, [p for p in np.unique(mesh.parts) if p.split(".")[-1] in flower_parts])
+    corners = mesh.vertices[mesh.faces[petals]].mean(1)
+    centres = np.column_stack([table["x_m"], table["y_m"], table["z_m"]])
+    near = cKDTree(corners).query(centres)[0]
+    assert (near <= table["radius_m"]).all()
+    # The specimen daisy the approach flies to: its head, 4 cm across, facing up at (0.40, 0, 0.30) m.
+    first = np.array([table[c][0] for c in FLOWER_COLUMNS[1:]])
+    np.testing.assert_allclose(first, [0.40, 0.0, 0.30, 0.02, 0.0, 0.0, 1.0], atol=1e-9)
     # Four forms at least, every one of them in flower.
     forms = {species_table()[s]["form"] for s in species - {"grass", "soil"}}
     assert forms == {"composite", "corymb", "bell", "spike"}

@@ -524,3 +524,91 @@ def allometry(rows, path, species="Bombus terrestris"):
     fig.suptitle(f"{species}: the eyes built here on Taylor et al.'s (2019) scans against body size; fields "
                  "from the corneal normals", fontsize=9)
     save(fig, path)
+
+
+def detection_distances(tables, path, scene=""):
+    """From how far each eye detects each species' flowers: one panel per eye, the achromatic and the
+    chromatic criterion's first distances per approach, by species, log scale.
+
+    Parameters
+    ----------
+    tables : dict of str to dict
+        Eye class to its approaches table (:func:`beeoptics.pipeline.detection.survey`).
+    """
+    fig = Figure(figsize=(4.2 * max(1, len(tables)), 4.0), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, max(1, len(tables)), sharey=True))
+    for ax, (eye, t) in zip(axes, tables.items()):
+        species = np.asarray(t["species"]).astype(str)
+        names = sorted(set(species))
+        for k, s in enumerate(names):
+            for shift, (column, colour, label) in zip((-0.15, 0.15), (
+                    ("first_achromatic_m", "tab:green", "green + colour contrast (≥ 5°)"),
+                    ("first_chromatic_m", "tab:purple", "colour contrast alone (≥ 15°)"))):
+                d = np.asarray(t[column], float)[species == s]
+                d = d[np.isfinite(d)]
+                if d.size:
+                    ax.plot(np.full(d.size, k + shift), d, "o", ms=3, color=colour, alpha=0.6,
+                            label=label if k == 0 else None)
+                    ax.plot([k + shift - 0.1, k + shift + 0.1], [np.median(d)] * 2, color=colour, linewidth=2)
+        ax.set_xticks(range(len(names)), [n.replace("_", " ") for n in names], rotation=35, ha="right", fontsize=7,
+                      style="italic")
+        ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+        ax.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
+        ax.tick_params(axis="y", which="both", labelsize=7)
+        ax.set_title(eye, fontsize=9)
+        ax.grid(axis="y", color="0.85", linewidth=0.5)
+        ax.legend(fontsize=6, frameon=False, loc="upper right")
+    axes[0].set_ylabel("detection distance, m (first approaching)")
+    fig.suptitle(textwrap.fill(f"{scene}: from how far the bee first detects each flower (Giurfa et al. 1996's "
+                               "rule, as the traced receptors saw the flower against its surround); bars: medians",
+                               55 * max(1, len(tables))), fontsize=8)
+    save(fig, path)
+
+
+def flight_detection(columns, first, rule, path, title):
+    """The target along a flight, against its distance: its angular size beside the rule's angles, and
+    its contrasts beside the rule's thresholds, each criterion's first detection marked.
+
+    Parameters
+    ----------
+    columns : dict of ndarray
+        A flight's detection table (:func:`beeoptics.pipeline.flights.flight_products`).
+    first : dict
+        :func:`beeoptics.pipeline.flights.first_detections`.
+    rule : dict or None
+        The receptor set's ``detection`` rule.
+    """
+    d = columns["distance_m"]
+    fig = Figure(figsize=(9.0, 3.6), layout="constrained")
+    size, contrast = fig.subplots(1, 2, sharex=True)
+    size.plot(d, columns["angular_diameter_deg"], color="0.2", label="angular diameter")
+    size.plot(d, columns["receptors_covered"], color="tab:orange", label="receptors covered (≥ half)")
+    contrast.plot(d, columns["green_dS"], color="tab:green", label="green contrast, receptor noise units")
+    contrast.plot(d, columns["rnl_dS"], color="tab:purple", label="colour distance ΔS (RNL)")
+    if rule is not None:
+        for criterion, colour in (("achromatic", "tab:green"), ("chromatic", "tab:purple")):
+            spec = rule[criterion]
+            size.axhline(spec["min_visual_angle_deg"], color=colour, linestyle=":", linewidth=1,
+                         label=f"{criterion}: {spec['min_visual_angle_deg']:g}°")
+        contrast.axhline(rule["chromatic"]["contrast"]["threshold"], color="0.5", linestyle=":", linewidth=1,
+                         label="threshold, 1 JND")
+    for name, colour, label in (("achromatic_detectable", "tab:green", "first detected: green + colour"),
+                                ("chromatic_detectable", "tab:purple", "first detected: colour alone")):
+        if first.get(name):
+            for ax in (size, contrast):
+                ax.axvline(first[name]["distance_m"], color=colour, linewidth=1.2,
+                           label=f"{label}, {first[name]['distance_m']:.2f} m" if ax is size else None)
+    for ax in (size, contrast):
+        ax.set_xscale("log")
+        ax.invert_xaxis()
+        ax.set_xlabel("distance to the target, m")
+        ax.grid(color="0.88", linewidth=0.5)
+        ax.legend(fontsize=6, frameon=False)
+        ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
+    size.set_yscale("log")
+    size.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    size.set_ylabel("degrees, receptors")
+    contrast.set_ylabel("JND")
+    fig.suptitle(textwrap.fill(title, 100), fontsize=9)
+    save(fig, path)

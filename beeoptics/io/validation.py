@@ -216,6 +216,7 @@ def _check_folders(config, source):
         named += [(f"polarisation.{key}.{i}", n) for i, n in enumerate(config["polarisation"][key])]
         named += [(f"comparison.eyes.{i}", n) for i, n in enumerate(config["comparison"]["eyes"] if key == "eyes"
                                                                       else [])]
+        named += [(f"detection.{key}.{i}", n) for i, n in enumerate(config["detection"][key])]
         for field, name in named:
             if not (root / name / filename).is_file():
                 found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
@@ -230,6 +231,10 @@ def _check_folders(config, source):
             raise InputError(source, f"polarisation.eyes.{i}",
                              f"the eye {name!r} has no dorsal rim area (a dorsal_rim section in its eye.yaml), "
                              "which the polarisation stages need")
+    for i, name in enumerate(config["detection"]["scenes"]):
+        if not (Path(config["scenes_dir"]) / name / "meadow.yaml").is_file():
+            raise InputError(source, f"detection.scenes.{i}", f"the scene {name!r} has no meadow.yaml: the survey "
+                             "approaches a generated meadow's flowers")
     root = Path(config["scenes_dir"])
     for name, flight in config.get("flights", {}).items():
         if not (root / flight["scene"] / flight["path"]).is_file():

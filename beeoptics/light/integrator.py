@@ -410,7 +410,7 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
 
 
 def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=None, first_samples=None,
-                rs=None, counts=None, cones=None, frames=None):
+                rs=None, counts=None, cones=None, frames=None, target=None):
     """Spectral radiance arriving along bundles of rays, averaged per bundle; with ``frames``, its Stokes vector.
 
     Parameters
@@ -449,12 +449,20 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         (:mod:`beeoptics.light.mueller`). With it, polarisation is carried
         from the sky through reflections (the sky's, the sun's and surfaces'
         as they are, a Lambertian surface depolarising).
+    target : (ndarray (3,) or (n, 3), float or ndarray (n,)), optional
+        A target's centre and radius, scene units, or one per bundle: each
+        bundle's share of its weight whose first hit lies within that
+        sphere is returned too (what share of a receptor's acceptance a
+        flower fills, as its samples met it, leaves and petals in front of
+        it included).
 
     Returns
     -------
     ndarray, shape (n, n_wavelengths), or (n, 3, n_wavelengths) with ``frames``
         Spectral radiance, W m⁻² sr⁻¹ nm⁻¹; with ``frames``, the spectral
         Stokes vector (I, Q, U) in those units.
+    ndarray, shape (n,)
+        With ``target`` only: each bundle's share that met it first.
     """
     if depth < 1:
         raise ValueError("depth must be at least 1")
@@ -514,10 +522,13 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
             contributions.append((bundle[rows[seen]], np.full(seen.sum(), lights.sun, np.int64), sunlight))
 
     paths = np.arange(n * s)
+    cover = None
     for event in range(depth + 1):
         out = first_hits(rs, rays)
         counts["cast"] += len(paths)
         hit = np.isfinite(out["t_hit"])
+        if event == 0 and target is not None:
+            cover = _target_share(rays, out["t_hit"], hit, w, bundle, n, *target)
         material = np.full(len(paths), -1, np.int64)
         material[hit] = surfaces.material(out["geometry_ids"][hit].astype(np.int64),
                                           out["primitive_ids"][hit].astype(np.int64), out["primitive_uvs"][hit])
@@ -539,7 +550,18 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     total = weights.sum(axis=1)
     out = _sum_contributions(b, combo, weight, n, lights.spectra, scene.reflectance, radix, depth, sequences)
     out /= total[:, None, None]
-    return out if polarised else out[:, 0]
+    out = out if polarised else out[:, 0]
+    return out if target is None else (out, cover / total)
+
+
+def _target_share(rays, t_hit, hit, w, bundle, n, centre, radius):
+    """Each bundle's weight of first hits within ``radius`` of ``centre`` (unnormalised), (n,)."""
+    rows = np.flatnonzero(hit)
+    point = rays[rows, :3].astype(np.float64) + t_hit[rows, None].astype(np.float64) * rays[rows, 3:]
+    centre = np.broadcast_to(np.asarray(centre, float), (n, 3))[bundle[rows]]
+    radius = np.broadcast_to(np.asarray(radius, float), (n,))[bundle[rows]]
+    inside = np.linalg.norm(point - centre, axis=1) <= radius
+    return np.bincount(bundle[rows[inside]], weights=w[rows[inside]], minlength=n)
 
 
 def _frames(reference, directions):

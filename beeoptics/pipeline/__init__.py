@@ -10,7 +10,7 @@ __all__, __getattr__ = exports(__name__, {
     "trace": ("gather_responses", "human_view", "render_human", "trace_part"),
     "images": ("colour_figures", "retinal_images", "sensitivity_figure", "visual_field_maps"),
     "sweeps": ("sweep_summary", "variant_light", "variant_trace", "variants", "with_delta_rho"),
-    "world": ("MEADOW_FILE", "MEADOW_MESH", "generate_meadow"),
+    "world": ("MEADOW_FILE", "MEADOW_FLOWERS", "MEADOW_MESH", "generate_meadow"),
     "flights": ("flight_products", "frame_count", "human_frames", "shares", "trace_frames"),
     "polarisation": ("compass", "polarisation_maps", "stokes_catches"),
     "logs": ("logging_to",),

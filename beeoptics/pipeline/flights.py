@@ -16,7 +16,7 @@ from beeoptics.eye.fieldofview import visual_field
 from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode
 from beeoptics.images.fieldmaps import paint
-from beeoptics.io.atomic import atomic_path
+from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.imagefile import write_gif
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
@@ -24,7 +24,9 @@ from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scen
 from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
-from beeoptics.vision.receptorset import SPECIES
+from beeoptics.vision.catches import quantum_catches
+from beeoptics.vision.detection import detect, local_background
+from beeoptics.vision.receptorset import SPECIES, curves, lacking, ommatidium_types
 from beeoptics.world.flight import (azimuth_elevation_components, disc_angular_diameter, disc_hits, frame_times,
                                     optic_flow, pose, read_flight)
 
@@ -48,28 +50,34 @@ def _poses(flight_file, fps, first, count):
     return [pose(flight, t) for t in frame_times(flight, fps)[first:first + count]]
 
 
-def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, count, fps, spectral, settings):
+def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, count, fps, spectral, settings,
+                 target=None):
     """Trace every receptor at a share of a flight's frames: ``outputs["frames"]`` (npz).
 
     The share is frames ``first`` … ``first + count − 1``; the scene and its
     Embree scene are made once for all of them. The file holds, per frame,
     each receptor's radiance (as a trace share), the pose, and each
     receptor's distance along its axis to the first surface (infinite for
-    the sky).
+    the sky); with a ``target`` (the flight's, see :func:`flight_products`),
+    also each receptor's share of its acceptance that met it first
+    (``cover``), within the sphere of its radius about its centre.
     """
     wl = grid(**spectral)
     scene = load_scene(scene_file, wl)
     table = read_receptors(receptors_csv)
     rs = raycasting_scene(scene)
-    radiance, depth, poses = [], [], _poses(flight_file, fps, first, count)
+    sphere = None if target is None else (np.asarray(target["position_m"], float), float(target["radius_m"]))
+    radiance, depth, cover, poses = [], [], [], _poses(flight_file, fps, first, count)
     for p in poses:
         here = posed(scene, p.eye())
-        radiance.append(trace_receptors(here, table, 0, len(table.id), settings, len(wl), rs=rs)[0])
+        traced = trace_receptors(here, table, 0, len(table.id), settings, len(wl), rs=rs, target=sphere)
+        radiance.append(traced[0])
+        cover.append(traced[2] if sphere is not None else np.zeros(len(table.id)))
         origins, axes = receptors_in_world(here, table.position, table.axis)
         depth.append(first_hits(rs, np.column_stack([origins, axes]).astype(np.float32))["t_hit"].astype(np.float64))
     with atomic_path(outputs["frames"]) as tmp:
         np.savez(tmp, id=table.id, frame=first + np.arange(len(poses)), radiance=np.array(radiance),
-                 depth_m=np.array(depth), time_s=np.array([p.time for p in poses]),
+                 cover=np.array(cover), depth_m=np.array(depth), time_s=np.array([p.time for p in poses]),
                  position_m=np.array([p.position for p in poses]), rotation=np.array([p.rotation for p in poses]),
                  velocity_m_s=np.array([p.velocity for p in poses]),
                  angular_velocity_rad_s=np.array([p.angular_velocity for p in poses]))
@@ -88,6 +96,21 @@ def human_frames(scene_file, flight_file, outputs, *, first, count, fps, spectra
                                            settings, wl, rs)))
     with atomic_path(outputs["frames"]) as tmp:
         np.savez(tmp, srgb=np.array(images, np.float32))
+
+
+def first_detections(columns):
+    """Where along a flight each criterion first holds, approaching: for each of the verdicts and the
+    receptor-level measures of :func:`beeoptics.vision.detection.detect`, the first frame at which it
+    does (1, or at least one receptor), its time and its distance to the target; None where it never does."""
+    out = {}
+    for name in ("achromatic_detectable", "chromatic_detectable", "receptors_green_above_threshold",
+                 "receptors_colour_above_threshold"):
+        hit = np.flatnonzero(np.nan_to_num(columns[name], nan=0.0) >= 1)
+        out[name] = None if not hit.size else {
+            "frame": int(columns["frame"][hit[0]]), "t_s": float(columns["t_s"][hit[0]]),
+            "distance_m": float(columns["distance_m"][hit[0]]),
+            "angular_diameter_deg": float(columns["angular_diameter_deg"][hit[0]])}
+    return out
 
 
 def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, *, fps, spectral, receptor_set,
@@ -172,3 +195,53 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
     figures.optic_flow(az, el, np.column_stack([middle["flow_azimuth_deg_s"], middle["flow_elevation_deg_s"]]),
                        outputs["flow_figure"], f"{title}: optic flow at t = {middle['t_s'][0]:.2f} s "
                        "(Koenderink & van Doorn 1987), every receptor")
+
+
+def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_set, target, receptor_curves=SPECIES,
+                     title=""):
+    """Whether, and how, an eye detects a flight's target along it, from the shares of
+    :func:`trace_frames` (``frame_npzs``, in order, traced with the target).
+
+    Writes ``detection`` (per frame: ``frame``, ``t_s``, ``distance_m`` and
+    :func:`beeoptics.vision.detection.detect`'s columns, the target's share
+    of each receptor's acceptance as the trace met it), ``first`` (JSON:
+    where each criterion first holds, :func:`first_detections`) and
+    ``figure`` (the target's angular size and contrasts along the flight,
+    the first detections marked).
+
+    Parameters
+    ----------
+    target : dict
+        The flight's target (:func:`flight_products`).
+    """
+    wl = grid(**spectral)
+    table = read_receptors(receptors_csv)
+    sens = curves(receptor_set, wl, receptor_curves)
+    absent = lacking(receptor_set, ommatidium_types(receptor_set, len(table.id)))
+    centre = np.asarray(target["position_m"], float)
+    disc = (centre, np.asarray(target["normal"], float), float(target["radius_m"]))
+    rows, k = [], 0
+    for path in frame_npzs:
+        share = dict(np.load(path))
+        for j in range(len(share["frame"])):
+            position, rotation = share["position_m"][j], share["rotation"][j]
+            origins = table.position * 1e-3 @ rotation.T + position
+            toward = centre - origins
+            toward /= np.linalg.norm(toward, axis=1, keepdims=True)
+            alpha = float(np.degrees(disc_angular_diameter(position, *disc)))
+            # Catches of the receptors' radiance, not their irradiance: receptors of unequal Δρ compare alike.
+            catches = quantum_catches(share["radiance"][j], sens, wl)
+            if absent.size:
+                catches[absent] = np.nan
+            cover = share["cover"][j]
+            ring = local_background(table.axis @ rotation.T, cover, toward, alpha / 2.0, table.delta_rho_deg,
+                                    table.delta_phi_deg)
+            rows.append({"frame": k, "t_s": float(share["time_s"][j]),
+                         "distance_m": float(np.linalg.norm(centre - position)),
+                         **detect(catches, cover, ring, alpha, receptor_set)})
+            k += 1
+    columns = {c: np.array([r[c] for r in rows], float) for c in rows[0]}
+    write_table(outputs["detection"], columns)
+    first = first_detections(columns)
+    write_json(outputs["first"], first)
+    figures.flight_detection(columns, first, receptor_set.detection, outputs["figure"], title)

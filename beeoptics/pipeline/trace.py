@@ -65,49 +65,89 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     return counts
 
 
-def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None, polarised=False):
+def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None, polarised=False,
+                    target=None):
     """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
     and the ray counts, wall and CPU seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built.
 
     ``polarised``: the spectral Stokes vectors instead, (last − first, 3, n_wavelengths), each in
     the frame of the head's dorsal direction about the receptor's samples
-    (:func:`beeoptics.light.integrator.trace_paths`)."""
+    (:func:`beeoptics.light.integrator.trace_paths`). ``target``, a sphere
+    (centre, radius; scene units): also the share of each receptor's
+    acceptance whose samples met it first, (last − first,), a third result."""
     origins, axes = receptors_in_world(scene, table.position, table.axis)
-    drho = table.delta_rho_deg
-    sigma = cone_sigma(drho)
     rs = raycasting_scene(scene) if rs is None else rs
     met, back = back_faces_met(rs, origins[first:last], axes[first:last])
     if back > met / 2:
         log.warning("%.0f%% of the receptors whose axis meets a surface meet its back face (%d of %d): the eye "
                     "may sit below the ground or inside a closed mesh; the scene's eye.position_m places it",
                     100.0 * back / met, back, met)
-    dorsal = scene.eye_rotation[:, 2]
-    counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
              settings.depth, settings.threads)
+    # Each receptor draws the random numbers of its id, so that it is traced alike in any table that holds it.
+    out = trace_cones(scene, origins, axes, table.delta_rho_deg, np.asarray(table.id, np.int64), first, last,
+                      settings, n_wavelengths, progress, rs, scene.eye_rotation[:, 2] if polarised else None, target)
+    counts = out[1]
+    log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
+             counts["shadow"], counts["seconds"])
+    return out
+
+
+def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, settings, n_wavelengths, progress=None,
+                rs=None, dorsal=None, target=None):
+    """The mean spectral radiance of acceptance cones ``first``..``last`` at ``origins`` (m) along ``axes``,
+    and the ray counts, wall and CPU seconds, as :func:`trace_receptors` gives them.
+
+    Parameters
+    ----------
+    delta_rho_deg : ndarray (n,)
+        Each cone's acceptance angle.
+    streams : ndarray of int (n,)
+        Each cone's random-number stream: a cone of the same stream, origin
+        and axis is traced the same in any call.
+    dorsal : ndarray (3,), optional
+        The head's dorsal direction: with it, Stokes vectors in its frame
+        (:func:`trace_receptors`' ``polarised``).
+    target : (ndarray, float or ndarray), optional
+        A sphere (centre, radius), or one per cone ((n, 3), (n,)): also each
+        cone's share that met it first, a third result.
+    """
+    sigma = cone_sigma(delta_rho_deg)
+    rs = raycasting_scene(scene) if rs is None else rs
+    counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
     start, cpu = time.perf_counter(), time.process_time()
+    centres = radii = None
+    if target is not None:
+        centres = np.broadcast_to(np.asarray(target[0], float), (len(origins), 3))
+        radii = np.broadcast_to(np.asarray(target[1], float), (len(origins),))
 
     def trace(blocks):
-        dirs, weights = cone_samples(axes[blocks.bundle], drho[blocks.bundle], blocks.samples, settings.seed,
-                                     streams=blocks.bundle, first_samples=blocks.first_sample)
+        b = blocks.bundle
+        dirs, weights = cone_samples(axes[b], delta_rho_deg[b], blocks.samples, settings.seed,
+                                     streams=streams[b], first_samples=blocks.first_sample)
         cast = {}
-        radiance = trace_paths(scene, origins[blocks.bundle], dirs, weights, depth=settings.depth,
-                               seed=settings.seed, streams=blocks.bundle, first_samples=blocks.first_sample, rs=rs,
-                               counts=cast, cones=(axes[blocks.bundle], sigma[blocks.bundle]),
-                               frames=np.broadcast_to(dorsal, (len(blocks.bundle), 3)) if polarised else None)
+        radiance = trace_paths(scene, origins[b], dirs, weights, depth=settings.depth, seed=settings.seed,
+                               streams=streams[b], first_samples=blocks.first_sample, rs=rs, counts=cast,
+                               cones=(axes[b], sigma[b]),
+                               frames=None if dorsal is None else np.broadcast_to(dorsal, (len(b), 3)),
+                               target=None if target is None else (centres[b], radii[b]))
         with counting:
             for k, v in cast.items():
                 counts[k] += v
-        return radiance.reshape(len(blocks.bundle), -1), weights.sum(axis=1)
+        if target is not None:
+            # The share rides along as one more column, averaged over sample blocks as the radiance is.
+            radiance = np.column_stack([radiance[0].reshape(len(b), -1), radiance[1]])
+        return radiance.reshape(len(b), -1), weights.sum(axis=1)
 
-    stokes = 3 if polarised else 1
-    radiance = trace_bundles(trace, first, last, settings, stokes * n_wavelengths, progress)
-    if polarised:
+    stokes = 1 if dorsal is None else 3
+    radiance = trace_bundles(trace, first, last, settings, stokes * n_wavelengths + (target is not None), progress)
+    cover = None
+    if target is not None:
+        radiance, cover = radiance[:, :-1], radiance[:, -1]
+    if dorsal is not None:
         radiance = radiance.reshape(-1, stokes, n_wavelengths)
     counts["seconds"], counts["cpu_seconds"] = time.perf_counter() - start, time.process_time() - cpu
-    log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
-             counts["shadow"], counts["seconds"])
-    return radiance, counts
+    return (radiance, counts) if target is None else (radiance, counts, cover)
 
 
 def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, receptor_set, background="scene",

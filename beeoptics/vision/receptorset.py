@@ -25,7 +25,9 @@ user's own beside the eye, checked against
   lacks are NaN;
 - optionally the light-adapted overall sensitivity (von Helversen 1972, the
   honey bee) and the class whose microvilli analyse polarisation in the
-  dorsal rim.
+  dorsal rim;
+- optionally the rule by which the species detects a target (the smallest
+  visual angles and the contrasts they need; :mod:`beeoptics.vision.detection`).
 
 A config's ``colour.sensitivities`` chooses between each set's own curves
 (``species``), the template at each set's λmax (``template``) or one CSV
@@ -73,7 +75,8 @@ class ReceptorSet(NamedTuple):
     (Weber fractions, None where not published); ``display`` the indices
     shown in each of red, green and blue (one or, with a mosaic, several
     each); ``overall`` None or (peaks_nm, ratio); ``mosaic`` None or a tuple
-    of (type name, class indices, share).
+    of (type name, class indices, share); ``detection`` None or the checked
+    ``detection`` section.
     """
 
     name: str
@@ -92,6 +95,7 @@ class ReceptorSet(NamedTuple):
     overall: tuple | None
     polarisation: int | None
     mosaic: tuple | None
+    detection: dict | None
     document: dict
 
     @property
@@ -185,8 +189,27 @@ def load_receptor_set(spec=DEFAULT_SET, base=None, source=None, field="receptors
         overall=None if overall is None else (tuple(overall["peaks_nm"]), tuple(overall["ratio"])),
         polarisation=None if "polarisation" not in doc else index(doc["polarisation"]["class"], "polarisation.class"),
         mosaic=_mosaic(doc.get("mosaic"), index, path),
+        detection=_detection(doc.get("detection"), weber, spaces, doc["achromatic"]["class"], colour["classes"], path),
         document=doc,
     )
+
+
+def _detection(spec, weber, spaces, achromatic, colour_classes, path):
+    """A set's detection rule, checked: each criterion's contrast must be one the set can measure."""
+    if spec is None:
+        return None
+    for criterion in ("achromatic", "chromatic"):
+        measure = spec[criterion]["contrast"]["measure"]
+        field = f"detection.{criterion}.contrast.measure"
+        if measure in ("rnl", "achromatic_rnl") and weber is None:
+            raise InputError(path, field, f"{measure} needs the receptors' noise (colour.noise), which this set "
+                             "does not give")
+        if measure == "achromatic_rnl" and achromatic not in colour_classes:
+            raise InputError(path, field, f"achromatic_rnl needs the achromatic class {achromatic!r} among "
+                             "colour.classes, whose noise it takes")
+        if measure == "hexagon" and "hexagon" not in spaces:
+            raise InputError(path, field, "hexagon needs the hexagon among colour.spaces")
+    return spec
 
 
 def _mosaic(spec, index, path):

@@ -38,11 +38,16 @@ def _colour(hex_colour):
 
 
 def _instances(template, rotations, positions):
-    """The template placed at each position (n, 3), turned by each rotation (n, 3, 3): one Mesh."""
+    """The template placed at each position (n, 3), turned by each rotation (n, 3, 3): one Mesh, its flowers too."""
     n = len(positions)
     vertices = np.einsum("nij,vj->nvi", rotations, template.vertices) + positions[:, None, :]
     faces = template.faces[None] + len(template.vertices) * np.arange(n)[:, None, None]
-    return plants.Mesh(vertices.reshape(-1, 3), faces.reshape(-1, 3), np.tile(template.parts, n))
+    f = template.flowers
+    centres = np.einsum("nij,kj->nki", rotations, f[:, :3]) + positions[:, None, :]
+    facing = np.einsum("nij,kj->nki", rotations, f[:, 4:])
+    flowers = np.concatenate([centres, np.broadcast_to(f[:, 3:4], (n, len(f), 1)), facing], axis=-1)
+    return plants.Mesh(vertices.reshape(-1, 3), faces.reshape(-1, 3), np.tile(template.parts, n),
+                       flowers.reshape(-1, 7))
 
 
 def _yaw(angles):
@@ -53,7 +58,8 @@ def _yaw(angles):
 
 
 def generate(meadow, source="meadow.yaml"):
-    """The meadow described by ``meadow`` (a checked meadow file): a Mesh and its face colours (m, 3), uint8.
+    """The meadow described by ``meadow`` (a checked meadow file): a Mesh (its ``flowers`` every flower in
+    the meadow), its face colours (m, 3), uint8, and each flower's species (k,).
 
     Raises
     ------
@@ -76,6 +82,7 @@ def generate(meadow, source="meadow.yaml"):
     h = h * terrain.level_round(x, y, clear, radii)
     meshes = [terrain.ground_mesh(x, y, h)]
     colours = {"soil": _colour(g["colour"])}
+    species = []
 
     def positions(points):
         points = points[placement.clear_of(points, clear, radii)]
@@ -117,12 +124,24 @@ def generate(meadow, source="meadow.yaml"):
             chosen = which == v
             if chosen.any():
                 meshes.append(_instances(template, turns[chosen], feet[chosen]))
+                species += [name] * len(meshes[-1].flowers)
         colours.update({f"{name}.{p}": _colour(c) for p, c in spec["colours"].items()})
 
     mesh = plants.join(meshes)
     names = np.array(sorted(colours), dtype=object)
     index = np.searchsorted(names, mesh.parts)
-    return mesh, np.array([colours[n] for n in names])[index]
+    return mesh, np.array([colours[n] for n in names])[index], np.array(species, dtype=object)
+
+
+#: The columns of a meadow's table of flowers (:func:`flower_table`), metres and unit vectors.
+FLOWER_COLUMNS = ("species", "x_m", "y_m", "z_m", "radius_m", "facing_x", "facing_y", "facing_z")
+
+
+def flower_table(mesh, species):
+    """Every flower of a generated meadow as columns of :data:`FLOWER_COLUMNS`: the sphere about it, the way it
+    faces."""
+    f = mesh.flowers
+    return {"species": species, **{c: f[:, k] for k, c in enumerate(FLOWER_COLUMNS[1:])}}
 
 
 def write_ply(path, mesh, face_colours):

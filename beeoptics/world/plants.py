@@ -27,26 +27,46 @@ from typing import NamedTuple
 import numpy as np
 
 
+#: A mesh without flowers.
+NO_FLOWERS = np.zeros((0, 7))
+
+
 class Mesh(NamedTuple):
-    """Triangles (m, 3) over vertices (n, 3), metres, and each triangle's part name (m,)."""
+    """Triangles (m, 3) over vertices (n, 3), metres, and each triangle's part name (m,).
+
+    ``flowers`` (k, 7) are the flowers it holds, each the sphere about it
+    (centre x, y, z, radius) and the way it faces (a unit vector): what a
+    bee approaches and detects (:mod:`beeoptics.vision.detection`).
+    """
 
     vertices: np.ndarray
     faces: np.ndarray
     parts: np.ndarray
+    flowers: np.ndarray = NO_FLOWERS
+
+
+def flower(centre, radius, facing):
+    """One flower's row of :attr:`Mesh.flowers`."""
+    facing = np.asarray(facing, float)
+    return np.array([[*np.asarray(centre, float), float(radius), *(facing / np.linalg.norm(facing))]])
 
 
 def join(meshes):
     """One mesh of several, their triangles in order."""
-    meshes = [m for m in meshes if len(m.faces)]
+    meshes = [m for m in meshes if len(m.faces) or len(m.flowers)]
     offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
     return Mesh(np.vstack([m.vertices for m in meshes]),
                 np.vstack([m.faces + o for m, o in zip(meshes, offsets)]),
-                np.concatenate([m.parts for m in meshes]))
+                np.concatenate([m.parts for m in meshes]),
+                np.vstack([NO_FLOWERS, *(m.flowers for m in meshes)]))
 
 
 def transformed(mesh, rotation, translation, scale=1.0):
-    """The mesh scaled, rotated (3, 3) and moved."""
-    return mesh._replace(vertices=scale * mesh.vertices @ np.asarray(rotation).T + translation)
+    """The mesh scaled, rotated (3, 3) and moved, its flowers with it."""
+    rotation = np.asarray(rotation)
+    f = mesh.flowers
+    flowers = np.column_stack([scale * f[:, :3] @ rotation.T + translation, scale * f[:, 3], f[:, 4:] @ rotation.T])
+    return mesh._replace(vertices=scale * mesh.vertices @ rotation.T + translation, flowers=flowers)
 
 
 def strips(centres, sides, half_widths, part):
@@ -209,7 +229,9 @@ def bell(length, mouth_diameter, lobes=5, sectors=15):
     outer = revolution(radius, height, lobing, sectors, "bell_outer")
     inner = revolution(0.92 * radius, height + 0.02 * length, lobing, sectors, "bell_inner")
     # The inner wall faces inwards: reverse its triangles.
-    return join([outer, inner._replace(faces=inner.faces[:, ::-1])])
+    bell = join([outer, inner._replace(faces=inner.faces[:, ::-1])])
+    return bell._replace(flowers=flower([0.0, 0.0, length / 2.0], np.hypot(length / 2.0, mouth_diameter / 2.0),
+                                        [0.0, 0.0, 1.0]))
 
 
 def funnel(length, mouth_diameter, lobes=5, sectors=10):
@@ -221,4 +243,5 @@ def funnel(length, mouth_diameter, lobes=5, sectors=10):
     lobing = 1.0 + 0.15 * (t[:, None] > 0.85) * np.cos(lobes * phi)[None]
     corolla = revolution(radius, height, lobing, sectors, part_of_ring=["corolla"] * 3 + ["limb"])
     calyx = revolution([0.0, 0.2 * mouth_diameter], [-0.05 * length, 0.25 * length], sectors=5, part="calyx")
-    return join([corolla, calyx])
+    around = flower([0.0, 0.0, length / 2.0], np.hypot(length / 2.0, mouth_diameter / 2.0), [0.0, 0.0, 1.0])
+    return join([corolla, calyx])._replace(flowers=around)

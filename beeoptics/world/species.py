@@ -110,6 +110,7 @@ def plant(spec, rng, upright=False):
         diameter = _draw(rng, spec, "head_diameter_m")
         head = plants.composite_head(diameter, _draw(rng, spec, "disc_diameter_m"),
                                      _draw(rng, spec, "rays", integer=True), DROOP * diameter, rng)
+        head = head._replace(flowers=plants.flower([0.0, 0.0, 0.0], diameter / 2.0, [0.0, 0.0, 1.0]))
         parts.append(plants.transformed(head, plants.rotation_to(top), points[-1]))
     elif form == "corymb":
         parts += _corymb(rng, spec, points[-1])
@@ -133,7 +134,9 @@ def _corymb(rng, spec, top):
     # Drawing choice: the corymb domes a quarter of its radius, 0.3 of it above the stem's top.
     lift = 0.25 * radius * (1.0 - (r / radius) ** 2)
     heads = top + np.column_stack([r * np.cos(a), r * np.sin(a), 0.3 * radius + lift])
-    out = []
+    # The corymb, not each of its small heads, is the flower a bee sees from afar: one sphere round it all.
+    out = [plants.Mesh(np.zeros((0, 3)), np.zeros((0, 3), np.int64), np.zeros(0, object),
+                       plants.flower(top + [0.0, 0.0, 0.3 * radius], radius, [0.0, 0.0, 1.0]))]
     for h in heads:
         out.append(plants.tube([top, 0.5 * (top + h) - [0, 0, 0.1 * radius], h], PEDICEL_RADIUS * 0.3 * radius,
                                sides=3))

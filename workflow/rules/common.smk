@@ -7,7 +7,7 @@ from beeoptics.io.errors import InputError
 from beeoptics.pipeline import sweeps
 from beeoptics.pipeline.outputs import FIELD_MAPS, colour_figures, retinal_images
 from beeoptics.pipeline.flights import shares
-from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
+from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_FLOWERS, MEADOW_MESH
 from beeoptics.vision.receptorset import SPECIES, TEMPLATE, receptor_set_of
 
 EYES_DIR = Path(config["eyes_dir"])
@@ -18,7 +18,7 @@ def named_eyes():
     """Every eye class the config names: in the run, its sweeps, flights and polarisation."""
     return list(dict.fromkeys([*config["eyes"], *(e for s in config["sweeps"].values() for e in s["eyes"]),
                                *(e for f in config["flights"].values() for e in f["eyes"]),
-                               *config["polarisation"]["eyes"]]))
+                               *config["polarisation"]["eyes"], *config["detection"]["eyes"]]))
 
 
 # Each eye's receptor set (its eye.yaml's receptors), which decides the columns and images of its outputs.
@@ -55,7 +55,7 @@ def eye_sources(wildcards):
 def scene_files(scene):
     """A scene's files, and the mesh of its meadow file, which the meadow rule generates."""
     folder = SCENES_DIR / scene
-    generated = [str(folder / MEADOW_MESH)] if (folder / MEADOW_FILE).exists() else []
+    generated = [str(folder / MEADOW_MESH), str(folder / MEADOW_FLOWERS)] if (folder / MEADOW_FILE).exists() else []
     return sorted(set(folder_files(folder)) | set(generated))
 
 
@@ -100,9 +100,12 @@ def all_targets():
     summaries = expand("results/sweeps/{sweep}/summary.csv", sweep=list(config["sweeps"]))
     flights = [f"results/flights/{name}/{eye}/{product}" for name, flight in config["flights"].items()
                for eye in flight["eyes"]
-               for product in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png")]
+               for product in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png",
+                               *(("detection.csv", "detection.json", "detection.png") if "target" in flight else ()))]
     polarisation = expand("results/{eye}/{scene}/polarisation/{name}", eye=config["polarisation"]["eyes"],
                           scene=config["polarisation"]["scenes"],
                           name=["polarisation.csv", "field.png", "retina.png", "dorsal_rim.png", "compass.csv",
                                 "compass.json", "compass.png"])
-    return eyes + figures + views + humans + summaries + flights + polarisation
+    detection = [f"results/detection/{scene}/{name}" for scene in config["detection"]["scenes"]
+                 for name in ("summary.csv", "detection.png")]
+    return eyes + figures + views + humans + summaries + flights + polarisation + detection

@@ -36,6 +36,7 @@ rule flight_frames:
         trace=lambda w: {**config["trace"], "samples_per_receptor": config["flights"][w.flight]["samples_per_receptor"]},
         fps=lambda w: config["flights"][w.flight]["fps"],
         frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
+        target=lambda w: config["flights"][w.flight].get("target"),
     log:
         "results/logs/flights/{flight}/{eye}/{first}.log",
     threads: 8
@@ -100,3 +101,24 @@ rule flight:
         runtime=60,
     script:
         "../scripts/flight.py"
+
+
+rule flight_detection:
+    input:
+        frames=lambda w: flight_shares(w)["frames"],
+        receptors="results/eyes/{eye}/receptors.csv",
+        curves=sensitivity_files,
+    output:
+        detection="results/flights/{flight}/{eye}/detection.csv",
+        first="results/flights/{flight}/{eye}/detection.json",
+        figure=report("results/flights/{flight}/{eye}/detection.png", caption="../report/flight_detection.rst",
+                      category="Flights", subcategory="{flight}"),
+    params:
+        eye=eye_file,
+        spectral=config["spectral"],
+        target=lambda w: config["flights"][w.flight]["target"],
+        receptor_curves=config["colour"]["sensitivities"],
+    log:
+        "results/logs/flights/{flight}/{eye}/detection.log",
+    script:
+        "../scripts/flight_detection.py"

@@ -1,4 +1,5 @@
-# The world: generated meadows, as meshes beside their meadow file in the scene's folder.
+# The world: generated meadows, as meshes and tables of their flowers beside their meadow file in the
+# scene's folder.
 
 
 rule meadow:
@@ -6,6 +7,7 @@ rule meadow:
         SCENES_DIR / "{scene}" / MEADOW_FILE,
     output:
         mesh=SCENES_DIR / "{scene}" / MEADOW_MESH,
+        flowers=SCENES_DIR / "{scene}" / MEADOW_FLOWERS,
     log:
         "results/logs/meadow/{scene}.log",
     resources:
