@@ -8,11 +8,11 @@ counted, in wall and in CPU seconds (:func:`embree_seconds`), so that a
 benchmark can say what share of a trace Embree takes.
 """
 
+import functools
 import threading
 import time
 
 import numpy as np
-import open3d as o3d
 
 _embree = {"seconds": 0.0, "cpu_seconds": 0.0, "lock": threading.Lock()}
 
@@ -23,9 +23,17 @@ def embree_seconds():
     return _embree["seconds"], _embree["cpu_seconds"]
 
 
+@functools.cache
+def open3d():
+    """Open3D, imported when a ray is first to be cast: jobs that only draw or tabulate never load it."""
+    import open3d as o3d
+
+    return o3d
+
+
 def _timed(call, rays):
     start, cpu = time.perf_counter(), time.process_time()
-    out = call(o3d.core.Tensor(rays))
+    out = call(open3d().core.Tensor(rays))
     spent, cpu_spent = time.perf_counter() - start, time.process_time() - cpu
     with _embree["lock"]:
         _embree["seconds"] += spent
@@ -42,6 +50,7 @@ def embree_scene(meshes):
         Vertices (n, 3) and triangles (m, 3), in any float and integer type;
         Embree takes them in single precision.
     """
+    o3d = open3d()
     scene = o3d.t.geometry.RaycastingScene()
     for vertices, faces in meshes:
         scene.add_triangles(o3d.core.Tensor(np.asarray(vertices).astype(np.float32)),
@@ -57,3 +66,15 @@ def first_hits(scene, rays):
 def occluded(scene, rays):
     """``test_occlusions`` on rays (n, 6), float32: whether each meets any triangle."""
     return _timed(scene.test_occlusions, rays).numpy().astype(bool)
+
+
+def cast_rate(scene, rays, count):
+    """Rays per second of bare ``cast_rays`` on ``scene``: the batch ``rays`` (n, 6) cast until ``count`` rays,
+    after one cast to warm Embree up (a benchmark's yardstick for the rays a trace cast)."""
+    batch = open3d().core.Tensor(np.ascontiguousarray(rays, np.float32))
+    scene.cast_rays(batch)
+    start, cast = time.perf_counter(), 0
+    while cast < count:
+        scene.cast_rays(batch)["t_hit"].numpy()
+        cast += len(rays)
+    return cast / (time.perf_counter() - start)

@@ -43,7 +43,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-import open3d as o3d
 
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
@@ -52,7 +51,7 @@ from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_wor
 from beeoptics.light.sensors import cone_samples
 from beeoptics.pipeline.trace import gather_responses, trace_part
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
-from beeoptics.raycasting import embree_seconds
+from beeoptics.raycasting import cast_rate, embree_seconds
 from beeoptics.spectra import grid
 from beeoptics.vision.receptorset import receptor_set_of
 
@@ -68,17 +67,10 @@ def build_eye(eye, receptors_csv):
 
 def bare_rays_per_s(scene, origins, axes, drho, rays, seed):
     """Throughput of ``cast_rays`` alone on receptor-cone rays, batched as the trace batches."""
-    rs = raycasting_scene(scene)
     per = max(1, BARE_BATCH_RAYS // 256)
     dirs, _ = cone_samples(axes[:per], drho[:per], 256, seed)
-    batch = np.hstack([np.repeat(origins[:per], 256, axis=0), dirs.reshape(-1, 3)]).astype(np.float32)
-    batch = o3d.core.Tensor(batch)
-    rs.cast_rays(batch)  # warm up Embree's acceleration structure
-    start, cast = time.perf_counter(), 0
-    while cast < rays:
-        rs.cast_rays(batch)["t_hit"].numpy()
-        cast += len(batch)
-    return cast / (time.perf_counter() - start)
+    batch = np.hstack([np.repeat(origins[:per], 256, axis=0), dirs.reshape(-1, 3)])
+    return cast_rate(raycasting_scene(scene), batch, rays)
 
 
 def main():

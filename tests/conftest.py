@@ -1,5 +1,7 @@
 """Shared fixtures: the spectral grid, meshes, the reference data, scene files."""
 
+import os
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -10,6 +12,9 @@ from beeoptics.spectra import grid
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data"
+# The tests' scene cache is their own (beeoptics.light.scenecache), not the user's; the workflows they
+# run inherit it.
+os.environ["BEEOPTICS_CACHE"] = tempfile.mkdtemp(prefix="beeoptics-test-cache-")
 
 
 @pytest.fixture(scope="session")

@@ -2,6 +2,7 @@
 
 import base64
 import json
+import shutil
 import struct
 from pathlib import Path
 
@@ -12,6 +13,7 @@ import yaml
 
 from beeoptics.io.errors import InputError
 from beeoptics.io.meshfile import read_mesh
+from beeoptics.io.validation import load_yaml, validate
 from beeoptics.light.sensors import cone_samples
 from beeoptics.light.scene import load_scene
 from beeoptics.light.integrator import trace_paths
@@ -179,7 +181,8 @@ def test_a_textured_gltf_gives_each_texel_its_material(tmp_path, wavelengths, su
     axes = np.column_stack([targets, -np.ones(4)])
     axes /= np.linalg.norm(axes, axis=1, keepdims=True)
     dirs, w = cone_samples(axes, 1.0, 16, 1)
-    seen = trace_paths(scene, np.tile(scene.eye_position, (4, 1)), dirs, w, depth=2, seed=1)
+    # Escaping only (the sky not sampled from the surface): the estimate is then exact.
+    seen = trace_paths(scene, np.tile(scene.eye_position, (4, 1)), dirs, w, depth=2, seed=1, sky_sampling="escape")
     # A Lambertian square under a uniform sky, seen from above, is ρ times the sky: the bounce sees only sky.
     rho = np.array([0.1, 0.7, 0.7, 0.1])
     np.testing.assert_allclose(seen, rho[:, None] * scene.sky.basis[0], rtol=1e-9)
@@ -226,3 +229,43 @@ def test_a_scene_read_without_its_geometry_has_the_same_light_and_materials(wave
     np.testing.assert_array_equal(light.reflectance, whole.reflectance)
     np.testing.assert_array_equal(light.sky.basis, whole.sky.basis)
     np.testing.assert_array_equal(light.sun.radiance, whole.sun.radiance)
+
+
+def test_a_loaded_scene_is_cached_and_mapped_back_while_its_files_are_unchanged(tmp_path, wavelengths, monkeypatch,
+                                                                                  caplog):
+    from beeoptics.light import scenecache
+
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
+    folder = tmp_path / "scene"
+    shutil.copytree(ROOT / "tests" / "data" / "scenes" / "flower", folder)
+    first = load_scene(folder / "scene.yaml", wavelengths)
+    again = load_scene(folder / "scene.yaml", wavelengths)
+    assert isinstance(again.objects[1].vertices, np.memmap)
+    for a, b in zip(first.objects, again.objects):
+        np.testing.assert_array_equal(a.vertices, b.vertices)
+        np.testing.assert_array_equal(a.faces, b.faces)
+        np.testing.assert_array_equal(a.face_material, b.face_material)
+    np.testing.assert_array_equal(first.reflectance, again.reflectance)
+    # An edited mesh is another key: read from the file again.
+    mesh = folder / "daisy.obj"
+    mesh.write_text(mesh.read_text().replace("v ", "v  ", 1))
+    edited = load_scene(folder / "scene.yaml", wavelengths)
+    assert not isinstance(edited.objects[1].vertices, np.memmap)
+    # A broken entry is refused, named, and written again.
+    key = scenecache.scene_key(validate(load_yaml(folder / "scene.yaml"), "scene", folder / "scene.yaml"), folder,
+                               wavelengths)
+    entry = tmp_path / "cache" / key
+    (entry / "object1_vertices.npy").write_bytes(b"broken")
+    with caplog.at_level("WARNING", logger="beeoptics"):
+        fixed = load_scene(folder / "scene.yaml", wavelengths)
+    assert any("unreadable" in r.getMessage() and str(entry) in r.getMessage() for r in caplog.records)
+    np.testing.assert_array_equal(fixed.objects[1].vertices, edited.objects[1].vertices)
+    assert isinstance(load_scene(folder / "scene.yaml", wavelengths).objects[1].vertices, np.memmap)
+
+
+def test_a_cache_that_cannot_be_written_is_not_used(tmp_path, wavelengths, monkeypatch):
+    blocked = tmp_path / "file"
+    blocked.write_text("not a folder")
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(blocked / "cache"))
+    scene = load_scene(ROOT / "tests" / "data" / "scenes" / "flower" / "scene.yaml", wavelengths)
+    assert len(scene.objects) == 2 and not isinstance(scene.objects[1].vertices, np.memmap)

@@ -26,9 +26,10 @@ def fan(n, around, spread_deg, rng):
     return axes / np.linalg.norm(axes, axis=1, keepdims=True)
 
 
-def look(scene, axes, spp, depth=3, seed=1, delta_rho=2.6):
+def look(scene, axes, spp, depth=3, seed=1, delta_rho=2.6, sky_sampling="nee"):
     dirs, w = cone_samples(axes, delta_rho, spp, seed)
-    return trace_paths(scene, np.tile(scene.eye_position, (len(axes), 1)), dirs, w, depth=depth, seed=seed)
+    return trace_paths(scene, np.tile(scene.eye_position, (len(axes), 1)), dirs, w, depth=depth, seed=seed,
+                       sky_sampling=sky_sampling)
 
 
 def test_uniform_sky_alone_gives_every_receptor_the_sky_spectrum(tmp_path, wavelengths):
@@ -51,10 +52,14 @@ def test_lambertian_plane_under_a_uniform_sky_looks_like_rho_times_the_sky(tmp_p
         "eye": {"position_m": [0, 0, 0.5]}, "materials": {"leaf": {"reflectance": LEAF}},
         "objects": [{"primitive": {"plane": {"size_m": 1.0e6}}, "material": "leaf"}]})
     scene = load_scene(path, wavelengths)
-    l = look(scene, fan(100, [0, 0, -1], 40, np.random.default_rng(1)), 64)
+    axes = fan(100, [0, 0, -1], 40, np.random.default_rng(1))
     want = scene.reflectance[0] * scene.sky.basis[0]
-    # Each path sees the plane, then the sky: ρL exactly, up to Monte Carlo error (none here).
-    np.testing.assert_allclose(l, np.tile(want, (len(l), 1)), rtol=1e-9)
+    # Escaping, each path sees the plane, then the sky: ρL exactly, up to Monte Carlo error (none here).
+    np.testing.assert_allclose(look(scene, axes, 64, sky_sampling="escape"), np.tile(want, (len(axes), 1)), rtol=1e-9)
+    # Sampling the sky too (half the table's samples fall below the plane), ρL on average: unbiased.
+    nee = look(scene, axes, 64)
+    np.testing.assert_allclose(nee.mean(axis=0), want, rtol=0.01)
+    assert np.abs(nee / want - 1.0).max() < 0.2
 
 
 @pytest.mark.parametrize("rho", [0.3, 0.6])
@@ -225,3 +230,52 @@ def test_the_trace_knows_what_share_of_a_cone_met_a_target_first(tmp_path, wavel
     np.testing.assert_allclose(cover, [1.0, 0.0, 0.25, 0.0])
     # Asking for the share changes nothing else.
     np.testing.assert_array_equal(radiance, trace_paths(scene, np.zeros((4, 3)), dirs, weights, depth=1, seed=1))
+
+
+@pytest.mark.parametrize("sky_sampling", ["nee", "escape"])
+def test_a_white_ball_in_a_uniform_sky_is_as_bright_as_its_albedo_times_the_sky(tmp_path, wavelengths, sky_sampling):
+    # The white furnace's open form: a convex ball sees only the sky, so ρL leaves every point of it.
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "ball", "light": {"sky": "uniform", "radiance": 1.0, "sun": False},
+        "eye": {"position_m": [0, 0, 0]}, "materials": {"white": {"reflectance": 0.8}},
+        "objects": [{"primitive": {"sphere": {"radius_m": 0.2, "subdivisions": 5}}, "material": "white",
+                     "translate_m": [1.0, 0, 0]}]})
+    scene = load_scene(path, wavelengths)
+    l = look(scene, fan(200, [1, 0, 0], 6, np.random.default_rng(3)), 64, sky_sampling=sky_sampling)
+    assert l.mean() == pytest.approx(0.8, rel=0.01)
+
+
+def test_sampling_the_sky_changes_the_noise_of_a_meadow_not_its_mean(wavelengths):
+    scene = load_scene(MEADOW, wavelengths)
+    axes = fan(300, [0.9, 0.0, -0.45], 25, np.random.default_rng(4))
+    nee, escape = (look(scene, axes, 256, sky_sampling=s).sum(axis=1) for s in ("nee", "escape"))
+    ratio = nee / escape - 1.0
+    # Unbiased: the receptors' mean difference within four of its standard errors, and under 2 %.
+    assert abs(ratio.mean()) < max(4.0 * ratio.std() / np.sqrt(len(ratio)), 1e-3)
+    assert abs(ratio.mean()) < 0.02
+
+
+def test_sampling_the_sky_carries_its_polarisation_through_a_glossy_reflection(tmp_path, wavelengths):
+    # A glossy dark ground under a clear, polarised sky, the sun left out: both estimators give the
+    # same Stokes vectors on average.
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "pond", "light": {"sky": "hosek_wilkie", "sun": False, "sun_elevation_deg": 30.0,
+                                  "sun_azimuth_deg": 90.0},
+        "eye": {"position_m": [0, 0, 1.0]},
+        "materials": {"pond": {"reflectance": 0.05, "gloss": {"specular": 0.5, "exponent": 30.0,
+                                                                "refractive_index": 1.33}}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0e5}}, "material": "pond"}]})
+    scene = load_scene(path, wavelengths)
+    axes = fan(200, [0.6, 0.0, -0.8], 20, np.random.default_rng(5))
+    frames = np.tile([0.0, 1.0, 0.0], (len(axes), 1))
+    out = {}
+    for s in ("nee", "escape"):
+        dirs, w = cone_samples(axes, 2.6, 128, 1)
+        out[s] = trace_paths(scene, np.tile([0.0, 0.0, 1.0], (len(axes), 1)), dirs, w, depth=1, seed=1, frames=frames,
+                             sky_sampling=s).sum(axis=2)
+    intensity = out["escape"][:, 0].mean()
+    for q in range(3):
+        difference = (out["nee"][:, q] - out["escape"][:, q]) / intensity
+        assert abs(difference.mean()) < max(4.0 * difference.std() / np.sqrt(len(axes)), 2e-3), q
+    # The reflection polarises: Q is a good part of I.
+    assert abs(out["escape"][:, 1].mean()) > 0.1 * intensity

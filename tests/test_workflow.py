@@ -78,7 +78,7 @@ def test_every_artifact_is_written(workdir):
             assert (workdir / "results" / "scenes" / scene / name).stat().st_size > 0
     assert (workdir / "scenes" / "generated" / "meadow.ply").stat().st_size > 0
     for name in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png", "detection.csv",
-                 "detection.json", "detection.png"):
+                 "detection.json", "detection.png", "views.npz", "views.mp4"):
         assert (workdir / "results" / "flights" / "dive" / "tiny" / name).stat().st_size > 0
     assert (workdir / "scenes" / "generated" / "meadow_flowers.csv").stat().st_size > 0
     for name in ("tiny/detection.csv", "tiny/views.csv", "summary.csv", "detection.png"):
@@ -293,3 +293,32 @@ def test_the_survey_approaches_each_species_and_the_flight_detects_its_flower(wo
     first = json.loads((workdir / "results" / "flights" / "dive" / "tiny" / "detection.json").read_text())
     assert set(first) == {"achromatic_detectable", "chromatic_detectable", "receptors_green_above_threshold",
                           "receptors_colour_above_threshold"}
+
+
+def test_jobs_that_draw_figures_or_tables_load_neither_open3d_nor_numba(workdir):
+    logs = workdir / "results" / "logs"
+    light = [logs / "acuity.log", *logs.glob("eye_figures/*.log"), *logs.glob("images/*/*.log"),
+             *logs.glob("sensitivities/*.log"), *logs.glob("gather/*/*.log"), *logs.glob("detection/*/summary.log"),
+             *logs.glob("flights/*/*/detection.log"), *logs.glob("flights/*/*/gather.log"),
+             *logs.glob("sweeps/*/summary.log")]
+    assert len(light) >= 10
+    for log in light:
+        assert "loaded: none of open3d, numba" in log.read_text(), log
+    # The heavy ones do load them: the tracer's.
+    assert "loaded: open3d, numba" in next(logs.glob("trace/*/*/*.log")).read_text()
+
+
+def test_a_flights_views_hold_every_receptors_catches_at_every_frame_and_play_as_a_video(workdir):
+    flight = workdir / "results" / "flights" / "dive" / "tiny"
+    views = np.load(flight / "views.npz")
+    target = read_table(flight / "target.csv")
+    assert views["catches"].shape == (len(target["frame"]), 600, 3) and list(views["classes"]) == ["UV", "B", "G"]
+    np.testing.assert_allclose(views["t_s"], target["t_s"])
+    assert np.isfinite(views["catches"]).all() and (views["catches"] > 0).any()
+    # An MP4 (ISO base media: an ftyp box first) of as many frames as the flight has.
+    data = (flight / "views.mp4").read_bytes()
+    assert data[4:8] == b"ftyp"
+    import imageio_ffmpeg
+
+    frames, _ = imageio_ffmpeg.count_frames_and_secs(str(flight / "views.mp4"))
+    assert frames == len(target["frame"])

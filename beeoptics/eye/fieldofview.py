@@ -34,7 +34,6 @@ from scipy.spatial import cKDTree
 
 from beeoptics.eye.lattice import sphere_triangles
 from beeoptics.headframe import LEFT, RIGHT, direction_from_x_towards_y
-from beeoptics.raycasting import embree_scene, first_hits
 
 #: Bits of :attr:`VisualField.eyes`: which eyes see a direction.
 EYE_BITS = {RIGHT: 1, LEFT: 2}
@@ -84,10 +83,33 @@ def within_lattice(axes, delta_phi_deg, unit):
         Directions.
     """
     tri = sphere_triangles(axes, delta_phi_deg)
+    unit = np.asarray(unit, float)
+    inside = np.zeros(len(unit), bool)
     if len(tri) == 0:
-        return np.zeros(len(unit), bool)
-    rays = np.hstack([np.zeros_like(unit), unit]).astype(np.float32)
-    return np.isfinite(first_hits(embree_scene([(axes, tri)]), rays)["t_hit"])
+        return inside
+    a, b, c = (np.asarray(axes, float)[tri[:, k]] for k in range(3))
+    centre = a + b + c
+    centre /= np.linalg.norm(centre, axis=1, keepdims=True)
+    # A direction in a spherical triangle lies within the triangle's farthest corner of its centre.
+    reach = np.max([np.linalg.norm(v - centre, axis=1) for v in (a, b, c)])
+    # The planes through the origin and each edge, turned so that the triangle lies on their positive side.
+    turn = np.sign(np.einsum("ij,ij->i", a, np.cross(b, c)))[:, None]
+    planes = np.stack([np.cross(a, b), np.cross(b, c), np.cross(c, a)], axis=1) * turn[:, :, None]
+    tree = cKDTree(centre)
+    # Only directions near some axis can lie in a triangle: within the longest edge of its nearest corner.
+    longest = max(np.linalg.norm(a - b, axis=1).max(), np.linalg.norm(b - c, axis=1).max(),
+                  np.linalg.norm(c - a, axis=1).max())
+    todo = np.flatnonzero(cKDTree(axes).query(unit, distance_upper_bound=longest)[0] <= longest)
+    k = min(16, len(tri))
+    while todo.size:
+        distance, near = tree.query(unit[todo], k=k)
+        distance, near = distance.reshape(len(todo), -1), near.reshape(len(todo), -1)
+        side = np.einsum("mkpj,mj->mkp", planes[near], unit[todo])
+        inside[todo] = ((side >= 0.0).all(axis=2) & (distance <= reach)).any(axis=1)
+        # Where the k-th nearest centre is still within reach, a farther triangle might hold it: look further.
+        todo = todo[~inside[todo] & (distance[:, -1] <= reach)] if k < len(tri) else todo[:0]
+        k = min(4 * k, len(tri))
+    return inside
 
 
 def visual_field(axes, sides, delta_rho_deg, delta_phi_deg, width_px=720):

@@ -69,6 +69,28 @@ def write_gif(path, frames, fps):
         out.close()
 
 
+def write_mp4(path, frames, fps):
+    """Write RGB frames (each (h, w, 3) uint8, all one size) as an H.264 MP4 at ``fps``, atomically.
+
+    Encoded by the ffmpeg that imageio-ffmpeg's wheel ships (libx264, yuv420p, as
+    browsers and players expect, so an odd width or height is padded by a pixel).
+    """
+    import imageio_ffmpeg
+
+    # yuv420p wants even sides: pad by the edge pixel.
+    frames = [np.pad(np.asarray(f, np.uint8), ((0, f.shape[0] % 2), (0, f.shape[1] % 2), (0, 0)), mode="edge")
+              for f in frames]
+    h, w, _ = frames[0].shape
+    with atomic_path(path) as tmp:
+        writer = imageio_ffmpeg.write_frames(str(tmp), (w, h), fps=float(fps), codec="libx264", quality=8,
+                                             pix_fmt_out="yuv420p", macro_block_size=1,
+                                             output_params=["-f", "mp4"])
+        writer.send(None)
+        for frame in frames:
+            writer.send(frame)
+        writer.close()
+
+
 def write_exr(path, data, channel_names):
     """Write float data (h, w, c) as a zip-compressed EXR with named channels."""
     _write(path, np.asarray(data, np.float32), oiio.FLOAT, channel_names, compression="zip")

@@ -113,7 +113,6 @@ Khronos Group (2021) glTF 2.0 Specification, version 2.0.1, §3.4 Coordinate Sys
 from pathlib import Path
 
 import numpy as np
-import open3d as o3d
 
 from beeoptics.headframe import SIDES, frame_axes
 from beeoptics.io.atomic import atomic_path
@@ -374,6 +373,7 @@ def write_receptor_ply(path, table, quality="delta_phi_deg"):
     ids = np.asarray(table.id)
     if ids.dtype.kind not in "iu" or ids.min() < np.iinfo(np.int32).min or ids.max() > np.iinfo(np.int32).max:
         raise ValueError("ids must be integers within int32, the widest integer PLY has")
+    import open3d as o3d  # here, not at the top: jobs that never touch a PLY point cloud never load it
 
     def column(values, dtype):
         return o3d.core.Tensor(np.ascontiguousarray(np.asarray(values, dtype).reshape(n, -1)))
@@ -407,6 +407,8 @@ def read_receptor_ply(path):
     path = Path(path)
     if not path.is_file():
         raise InputError(path, "", "no such file")
+    import open3d as o3d  # here, not at the top: jobs that never touch a PLY point cloud never load it
+
     cloud = o3d.t.io.read_point_cloud(str(path))
     if cloud.is_empty():
         raise InputError(path, "", "not a PLY point cloud, or one without vertices")

@@ -28,19 +28,22 @@ QUEUED_PER_THREAD = 2
 
 
 class TraceSettings(NamedTuple):
-    """How bundles are traced: rays per bundle, path depth, seed, rays per batch, threads."""
+    """How bundles are traced: rays per bundle, path depth, seed, rays per batch, threads, and how the sky
+    is sampled (:func:`beeoptics.light.integrator.trace_paths`)."""
 
     samples: int
     depth: int
     seed: int
     batch_rays: int
     threads: int = 1
+    sky_sampling: str = "nee"
 
     @classmethod
     def from_config(cls, trace, threads=1, samples=None):
         """The settings of a config's ``trace`` section; ``samples`` overrides its samples per receptor."""
         return cls(samples=trace["samples_per_receptor"] if samples is None else samples, depth=trace["depth"],
-                   seed=trace["seed"], batch_rays=trace["batch_rays"], threads=threads)
+                   seed=trace["seed"], batch_rays=trace["batch_rays"], threads=threads,
+                   sky_sampling=trace.get("sky_sampling", "nee"))
 
 
 class Blocks(NamedTuple):

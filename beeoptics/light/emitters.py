@@ -12,6 +12,17 @@ by next-event estimation from every surface a path meets and, in a
 receptor's cone, against the cone's own samples (Veach 1997; see
 :mod:`beeoptics.light.integrator`).
 
+The sky is sampled from every surface too, in proportion to its radiance
+(:func:`sky_table`, :func:`sample_sky`): a piecewise-constant
+distribution over :data:`SKY_ROWS` × :data:`SKY_COLUMNS` cells of equal
+solid angle (rows even in the world's z, columns in azimuth), each cell's
+weight the sky's radiance at a few points in it, its basis spectra
+summed by their mean over the grid. Directions the table gives no weight
+(a hemisphere sky's below the horizon) are still reached by the surface's
+own scattering, which multiple importance sampling weighs against the
+table's (:mod:`beeoptics.light.integrator`), so the estimate stays unbiased
+whatever the table's resolution.
+
 References
 ----------
 Veach E (1997) Robust Monte Carlo methods for light transport simulation.
@@ -21,7 +32,14 @@ PhD thesis, Stanford University.
 import numpy as np
 
 from beeoptics.jit import kernel
+from beeoptics.light.hosekwilkie import shape_radiances
 from beeoptics.light.sampler import around
+
+#: Rows (even in z, from −1 to 1) and columns (even in azimuth) of the sky's sampling table: cells of
+#: 4π/2048 sr, about 2.5° across, finer than the sky's gradients away from the sun's aureole.
+SKY_ROWS, SKY_COLUMNS = 32, 64
+#: Points per cell, along each of its sides, at which the sky is evaluated for its weight.
+SKY_SUPERSAMPLE = 3
 
 
 class Lights:
@@ -54,3 +72,68 @@ def sample_sun(direction, cos_radius, u_cos, u_phi):
     """A direction towards the sun's disc (``direction``, ``cos_radius``), uniform over its solid angle."""
     cos_a = 1.0 - u_cos * (1.0 - cos_radius)
     return around(direction[0], direction[1], direction[2], cos_a, 2.0 * np.pi * u_phi)
+
+
+def sky_table(sky, spectra):
+    """The sky's sampling distribution: each row's cumulative weight (rows + 1,), each row's cells'
+    (rows, columns + 1), both from 0 to 1, and each cell's density per steradian (rows, columns).
+
+    Parameters
+    ----------
+    sky : Sky or None
+    spectra : ndarray (k, n_wavelengths)
+        The sky's basis spectra; each basis weight counts by its spectrum's mean.
+    """
+    rows, cols, m = SKY_ROWS, SKY_COLUMNS, SKY_SUPERSAMPLE
+    density = np.zeros((rows, cols))
+    if sky is not None:
+        z = -1.0 + 2.0 * (np.arange(rows * m) + 0.5) / (rows * m)
+        phi = 2.0 * np.pi * (np.arange(cols * m) + 0.5) / (cols * m)
+        zz, pp = np.meshgrid(z, phi, indexing="ij")
+        s = np.sqrt(1.0 - zz**2)
+        d = np.column_stack([(s * np.cos(pp)).ravel(), (s * np.sin(pp)).ravel(), zz.ravel()])
+        value = shape_radiances(d, sky.sun, sky.shape, sky.cos_floor, sky.cos_offset, sky.hemisphere)
+        value = (value @ np.asarray(spectra, float).mean(axis=1)).reshape(rows, m, cols, m).mean(axis=(1, 3))
+        total = value.sum()
+        if total > 0.0:
+            density = value / (total * 4.0 * np.pi / (rows * cols))
+    weight = density.sum(axis=1)
+    row_cdf = np.concatenate([[0.0], np.cumsum(weight)])
+    row_cdf = row_cdf / row_cdf[-1] if row_cdf[-1] > 0 else np.linspace(0.0, 1.0, rows + 1)
+    cells = np.concatenate([np.zeros((rows, 1)), np.cumsum(density, axis=1)], axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        col_cdf = np.where(cells[:, -1:] > 0, cells / cells[:, -1:], np.linspace(0.0, 1.0, cols + 1)[None])
+    return row_cdf, col_cdf, density
+
+
+@kernel
+def sample_sky(row_cdf, col_cdf, density, u_row, u_col):
+    """A direction from the sky's table (:func:`sky_table`) and its density per steradian.
+
+    Continuous inversion of the piecewise-constant distribution: the
+    fraction of ``u`` past a cell's start places the direction uniformly in
+    the cell's z and azimuth, so uniformly over its solid angle.
+    """
+    rows, cols = density.shape
+    r = min(max(np.searchsorted(row_cdf, u_row, side="right") - 1, 0), rows - 1)
+    width = row_cdf[r + 1] - row_cdf[r]
+    t = (u_row - row_cdf[r]) / width if width > 0.0 else 0.5
+    c = min(max(np.searchsorted(col_cdf[r], u_col, side="right") - 1, 0), cols - 1)
+    width = col_cdf[r, c + 1] - col_cdf[r, c]
+    v = (u_col - col_cdf[r, c]) / width if width > 0.0 else 0.5
+    z = -1.0 + 2.0 * (r + min(max(t, 0.0), 1.0)) / rows
+    phi = 2.0 * np.pi * (c + min(max(v, 0.0), 1.0)) / cols
+    s = np.sqrt(max(1.0 - z * z, 0.0))
+    return s * np.cos(phi), s * np.sin(phi), z, density[r, c]
+
+
+@kernel
+def sky_density(density, x, y, z):
+    """The density per steradian with which :func:`sample_sky` draws the unit direction (x, y, z)."""
+    rows, cols = density.shape
+    r = min(max(int((z + 1.0) * 0.5 * rows), 0), rows - 1)
+    phi = np.arctan2(y, x)
+    if phi < 0.0:
+        phi += 2.0 * np.pi
+    c = min(max(int(phi / (2.0 * np.pi) * cols), 0), cols - 1)
+    return density[r, c]

@@ -18,9 +18,11 @@ channels the radiance is interpolated linearly in wavelength, as in the
 authors' reference implementation; outside 320–720 nm each end channel's
 distribution is kept.
 
-The formula is evaluated in compiled code (:func:`shape_radiance`), one
-direction at a time, by the tracer as by the sky's quadrature. With C = 1
-and G = I = 0 it is Perez et al.'s (1993), which the Preetham sky uses.
+The formula (:func:`extended_perez`) is evaluated in compiled code one
+direction at a time by the tracer (:func:`shape_radiance`), and in numpy
+over arrays of directions by the sky's quadrature (:func:`shape_radiances`).
+With C = 1 and G = I = 0 it is Perez et al.'s (1993), which the Preetham
+sky uses.
 
 References
 ----------
@@ -66,6 +68,18 @@ def _cook(table, turbidity, albedo, elevation_rad):
 
 
 @kernel
+def extended_perez(cos_t, cos_g, gamma, a, b, c, d, e, f, g, h, i, l_m, cos_offset):
+    """The extended Perez formula F(θ, γ)·L_M, its dips below zero read as 0: of scalars in the tracer's
+    kernels, of arrays of directions in numpy (``extended_perez.py_func``), one formula for both."""
+    t = 1.0 + h * h - 2.0 * h * cos_g
+    mie = (1.0 + cos_g * cos_g) / (t * np.sqrt(t))
+    # A = 0 (a uniform sky) leaves B/cos θ out, which is undefined at the horizon.
+    gradation = 1.0 + a * np.exp(b / (cos_t + cos_offset)) if a != 0.0 else 1.0
+    return np.maximum(gradation * (c + d * np.exp(e * gamma) + f * cos_g * cos_g + g * mie + i * np.sqrt(cos_t))
+                      * l_m, 0.0)
+
+
+@kernel
 def shape_radiance(x, y, z, sun, shape, cos_floor, cos_offset, hemisphere, out):
     """The formula's value along the unit direction (x, y, z), one per row of ``shape``, into ``out``.
 
@@ -94,21 +108,20 @@ def shape_radiance(x, y, z, sun, shape, cos_floor, cos_offset, hemisphere, out):
     gamma = np.arccos(cos_g)
     for k in range(shape.shape[0]):
         a, b, c, d, e, f, g, h, i, l_m = shape[k]
-        t = 1.0 + h * h - 2.0 * h * cos_g
-        mie = (1.0 + cos_g * cos_g) / (t * np.sqrt(t))
-        # A = 0 (a uniform sky) leaves B/cos θ out, which is undefined at the horizon.
-        gradation = 1.0 + a * np.exp(b / (cos_t + cos_offset)) if a != 0.0 else 1.0
-        value = gradation * (c + d * np.exp(e * gamma) + f * cos_g * cos_g + g * mie + i * np.sqrt(cos_t)) * l_m
-        out[k] = max(value, 0.0)
+        out[k] = extended_perez(cos_t, cos_g, gamma, a, b, c, d, e, f, g, h, i, l_m, cos_offset)
 
 
-@kernel
 def shape_radiances(directions, sun, shape, cos_floor, cos_offset, hemisphere):
-    """:func:`shape_radiance` along each of ``directions`` (n, 3): shape (n, k)."""
-    out = np.empty((len(directions), shape.shape[0]))
-    for n in range(len(directions)):
-        shape_radiance(directions[n, 0], directions[n, 1], directions[n, 2], sun, shape, cos_floor, cos_offset,
-                       hemisphere, out[n])
+    """:func:`shape_radiance` along each of ``directions`` (n, 3): shape (n, k), in numpy (no compiling:
+    a job that only tabulates its sky, as gathering a trace's responses does, never loads numba)."""
+    d = np.asarray(directions, float).reshape(-1, 3)
+    cos_t = np.clip(d[:, 2], cos_floor, 1.0)
+    cos_g = np.clip(d @ np.asarray(sun, float), -1.0, 1.0)
+    gamma = np.arccos(cos_g)
+    out = np.stack([extended_perez.py_func(cos_t, cos_g, gamma, *row, cos_offset) for row in np.asarray(shape, float)],
+                   axis=-1) if len(shape) else np.zeros((len(d), 0))
+    if hemisphere:
+        out[d[:, 2] <= 0.0] = 0.0
     return out
 
 

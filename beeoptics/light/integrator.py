@@ -43,8 +43,8 @@ band-limited shortcut, at the cost of scalar arithmetic per ray.
 Compiled shading. Between two casts, everything runs in compiled kernels
 (numba; :mod:`beeoptics.jit`), one path at a time and serially within a
 batch: what each ray met (:func:`_arrive`: sky, sun, emission, the sun's
-shadow ray, scattering, roulette), the sun through the unblocked shadow
-rays (:func:`_sunlit`), and each bundle's spectral sum
+shadow ray, scattering, roulette), the sun and the sky through the unblocked
+shadow rays (:func:`_through`), and each bundle's spectral sum
 (:func:`_sum_contributions`). Only Embree's calls and the material lookup
 of the hits are outside them.
 
@@ -65,11 +65,12 @@ Steele GL, Lea D, Flood CH (2014) Fast splittable pseudorandom number
 generators. Proc OOPSLA 2014:453–472.
 """
 
-import numba
+import threading
+
 import numpy as np
 
 from beeoptics.jit import kernel
-from beeoptics.light.emitters import Lights, sample_sun
+from beeoptics.light.emitters import Lights, sample_sky, sample_sun, sky_density, sky_table
 from beeoptics.light.hosekwilkie import shape_radiance
 from beeoptics.light.mueller import depolarise, double_angle, plane_normal, reflect, reflect_column
 from beeoptics.light.sampler import shifted_halton, tangent_frames, uniform1
@@ -83,8 +84,15 @@ from beeoptics.raycasting import first_hits, occluded
 OFFSET = 1e-7
 #: Russian roulette starts after this many scattering events.
 ROULETTE_AFTER = 2
-#: Random dimensions drawn per scattering event.
-DIMENSIONS_PER_EVENT = 6
+#: Random dimensions drawn per scattering event: the sun's sample (2), the scattering (3), roulette,
+#: the sky's sample (2).
+DIMENSIONS_PER_EVENT = 8
+#: How the sky is sampled (:func:`trace_paths`), the default first.
+SKY_SAMPLING = ("nee", "escape")
+#: A sun sample in a receptor's cone is not cast where the cone's acceptance there is below this: 7.4 σ
+#: off the axis, its weight is 10⁻¹² of the axis's, below what the radiance, kept in single precision,
+#: resolves; and it spares the shadow rays of the many receptors that look away from the sun.
+NEGLIGIBLE_ACCEPTANCE = 1e-12
 #: Random dimensions of the sun's samples in a receptor's cone, apart from the events' and the cones'.
 SUN_DIMENSIONS = (254, 255)
 
@@ -103,10 +111,10 @@ def _put(weights, row, scale, mueller, i, column):
 
 @kernel
 def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, sequences, numbers, bundle, stream,
-            sample, seed, mueller, frame, has_sky, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere,
-            sky_neutral, sky_max_degree, sky_depolarisation, sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis,
-            cone_sigma, glows, emission_row, specular, exponent, refractive_index, mean_rho, max_rho, radix,
-            n_lights, eps):
+            sample, seed, mueller, frame, last_pdf, has_sky, sky_sun, sky_shape, sky_floor, sky_offset,
+            sky_hemisphere, sky_neutral, sky_max_degree, sky_depolarisation, sky_nee, sky_rows, sky_cols, sky_table,
+            sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis, cone_sigma, glows, emission_row, specular,
+            exponent, refractive_index, mean_rho, max_rho, radix, n_lights, eps):
     """What the paths ``paths`` meet along ``rays``: light where they leave the scene or meet a glowing
     surface (as contributions), and, at a surface, the sun's shadow ray and the scattered ray.
 
@@ -123,6 +131,15 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     wavelength (``sky_depolarisation``, :mod:`beeoptics.light.skypolarisation`),
     so its light stays one contribution per basis spectrum.
 
+    With ``sky_nee``, the sky is also sampled from every surface from its
+    table (``sky_rows``, ``sky_cols``, ``sky_table``:
+    :func:`beeoptics.light.emitters.sky_table`), each lobe's sample weighed
+    against the surface's own sampling of that lobe by the balance
+    heuristic; ``last_pdf`` holds, per path, the density with which its
+    last scattering drew its ray (the lobe's probability times the lobe's
+    density, 0 for a sensor's ray), so that sky light a scattered ray
+    reaches is weighed against the table's density there.
+
     Returns
     -------
     contributions : (bundle, combo, weights (k, 1 or 3)) arrays
@@ -132,10 +149,22 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     lit_key : ndarray (k, 2)
         Their keys.
     scattered : ndarray of bool (m,), the paths that go on
+    sky_shadow : ndarray (j, 6) float32, and the rows of ``paths`` each belongs to
+        The shadow rays towards the sky's samples.
+    sky_lit : ndarray (j, 2, n_sky, 1 or 3)
+        Their Lambertian and glossy weight (or Stokes vector) per basis spectrum of the sky.
+    sky_key : ndarray (j, 2)
+        Their keys.
     """
     m = len(paths)
     n_stokes = 3 if len(mueller) else 1
     n_sky = sky_shape.shape[0] if has_sky else 0
+    sky_shadow = np.empty((m if sky_nee else 0, 6), np.float32)
+    sky_row = np.empty(m if sky_nee else 0, np.int64)
+    sky_lit = np.zeros((m if sky_nee else 0, 2, max(n_sky, 1), n_stokes))
+    sky_key = np.empty((m if sky_nee else 0, 2), np.int64)
+    chain, dl = np.empty((3, 3)), np.empty(3)
+    nk = 0
     c_bundle = np.empty(m * (n_sky + 1), np.int64)
     c_combo = np.empty(m * (n_sky + 1), np.int64)
     c_weight = np.empty((m * (n_sky + 1), n_stokes))
@@ -163,6 +192,13 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
             # surface, next-event estimation has counted the sun).
             if n_sky:
                 shape_radiance(d[0], d[1], d[2], sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere, sky)
+                if sky_nee and last_pdf[i] > 0.0:
+                    # A scattered ray's sky, weighed against the table's sample of the same direction.
+                    norm = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+                    p_table = sky_density(sky_table, d[0] / norm, d[1] / norm, d[2] / norm)
+                    mis = last_pdf[i] / (last_pdf[i] + p_table)
+                    for k in range(n_sky):
+                        sky[k] *= mis
                 size = c2 = s2 = 0.0
                 if n_stokes == 3:
                     size = polarisation(du[0], du[1], du[2], sky_sun, sky_neutral, e_vector)
@@ -234,11 +270,61 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
                         lit[ns, 1, q] *= glint
                 lit_key[ns, 0], lit_key[ns, 1], shadow_row[ns] = rho_key, key[i], r
                 ns += 1
+        albedo = mean_rho[mat] + specular[mat]
+        p_glossy = specular[mat] / albedo if albedo > 0.0 else 0.0
+        if sky_nee and n_sky and albedo > 0.0:
+            # Next-event estimation towards the sky, drawn from its table.
+            lx, ly, lz, p_table = sample_sky(sky_rows, sky_cols, sky_table,
+                                             uniform1(seed, stream[i], sample[i], dim + 6),
+                                             uniform1(seed, stream[i], sample[i], dim + 7))
+            cos_l = normal[0] * lx + normal[1] * ly + normal[2] * lz
+            if cos_l > 0.0 and p_table > 0.0:
+                shape_radiance(lx, ly, lz, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere, sky)
+                cos_a = max(mirror[0] * lx + mirror[1] * ly + mirror[2] * lz, 0.0)
+                # The densities with which each lobe's own sampling would have drawn this direction.
+                p_diffuse = (1.0 - p_glossy) * cos_l / np.pi
+                p_lobe = p_glossy * (exponent[mat] + 1.0) / (2.0 * np.pi) * cos_a ** exponent[mat]
+                base = w[i] * cos_l / p_table
+                diffuse = base / np.pi * p_table / (p_table + p_diffuse)
+                glint = base * phong(specular[mat], exponent[mat], mirror, lx, ly, lz) * p_table / (p_table + p_lobe)
+                size = c2 = s2 = 0.0
+                if n_stokes == 3:
+                    size = polarisation(lx, ly, lz, sky_sun, sky_neutral, e_vector)
+                    # The chain as the glossy lobe's reflection towards the sample would leave it.
+                    plane_normal(du, lx, ly, lz, s_plane)
+                    for a in range(3):
+                        for b2 in range(3):
+                            chain[a, b2] = mueller[i, a, b2]
+                    c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
+                    reflect(chain, c2, s2, _half_cosine(du, lx, ly, lz), refractive_index[mat])
+                    dl[0], dl[1], dl[2] = lx, ly, lz
+                    c2, s2 = double_angle(e_vector[0], e_vector[1], e_vector[2], s_plane, dl)
+                for k in range(n_sky):
+                    if n_stokes == 1:
+                        sky_lit[nk, 0, k, 0] = diffuse * sky[k]
+                        sky_lit[nk, 1, k, 0] = glint * sky[k]
+                    else:
+                        # The Lambertian lobe depolarises; the glossy one reflects the sky's polarisation.
+                        p = degree(size, sky_max_degree, sky_depolarisation[k])
+                        for q in range(3):
+                            sky_lit[nk, 0, k, q] = diffuse * sky[k] * mueller[i, q, 0]
+                            sky_lit[nk, 1, k, q] = glint * sky[k] * (chain[q, 0] + chain[q, 1] * p * c2
+                                                                     + chain[q, 2] * p * s2)
+                sky_shadow[nk, 0], sky_shadow[nk, 1], sky_shadow[nk, 2] = rays[r, 0], rays[r, 1], rays[r, 2]
+                sky_shadow[nk, 3], sky_shadow[nk, 4], sky_shadow[nk, 5] = lx, ly, lz
+                sky_key[nk, 0], sky_key[nk, 1], sky_row[nk] = rho_key, key[i], r
+                nk += 1
         x, y, z, factor, glossy = scatter(normal, mirror, specular[mat], exponent[mat], mean_rho[mat],
                                           uniform1(seed, stream[i], sample[i], dim + 2),
                                           uniform1(seed, stream[i], sample[i], dim + 3),
                                           uniform1(seed, stream[i], sample[i], dim + 4))
         w[i] *= factor
+        if sky_nee:
+            if glossy:
+                cos_a = max(mirror[0] * x + mirror[1] * y + mirror[2] * z, 0.0)
+                last_pdf[i] = p_glossy * (exponent[mat] + 1.0) / (2.0 * np.pi) * cos_a ** exponent[mat]
+            else:
+                last_pdf[i] = (1.0 - p_glossy) * max(normal[0] * x + normal[1] * y + normal[2] * z, 0.0) / np.pi
         if n_stokes == 3:
             plane_normal(du, x, y, z, s_plane)
             if glossy:
@@ -257,7 +343,7 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
         rays[r, 3], rays[r, 4], rays[r, 5] = x, y, z
         scattered[r] = w[i] > 0.0
     return ((c_bundle[:nc], c_combo[:nc], c_weight[:nc]), shadow[:ns], shadow_row[:ns], lit[:ns], lit_key[:ns],
-            scattered)
+            scattered, sky_shadow[:nk], sky_row[:nk], sky_lit[:nk], sky_key[:nk])
 
 
 @kernel
@@ -267,11 +353,13 @@ def _half_cosine(d, x, y, z):
     norm = np.sqrt(hx * hx + hy * hy + hz * hz)
     return (hx * x + hy * y + hz * z) / norm if norm > 0.0 else 1.0
 
-@kernel
 def _no_sequences():
-    """The list of sequences of materials with only the empty one (0), and its inverse."""
-    sequences = numba.typed.List([0])
-    numbers = numba.typed.Dict.empty(numba.types.int64, numba.types.int64)
+    """The list of sequences of materials with only the empty one (0), and its inverse: numba's typed
+    containers, which the kernels extend (imported here, where a trace begins, as numba is nowhere else)."""
+    from numba import typed, types
+
+    sequences = typed.List([0])
+    numbers = typed.Dict.empty(types.int64, types.int64)
     numbers[0] = 0
     return sequences, numbers
 
@@ -288,21 +376,25 @@ def _number(sequences, numbers, sequence):
 
 
 @kernel
-def _sunlit(paths, shadow_row, blocked, lit, lit_key, bundle, sun_row, n_lights):
-    """The sun's light through the unblocked shadow rays: Lambertian, then glossy, per path."""
-    k = len(shadow_row)
-    n_stokes = lit.shape[2]
-    c_bundle, c_combo, c_weight = np.empty(2 * k, np.int64), np.empty(2 * k, np.int64), np.empty((2 * k, n_stokes))
+def _through(paths, rows, blocked, lit, keys, bundle, first_light, n_lights):
+    """Light through the unblocked shadow rays: per path, its Lambertian then its glossy weight (or Stokes
+    vector) of each light ``lit`` (k, 2, lights, 1 or 3) holds, the lights numbered from ``first_light``:
+    the sun's one, or the sky's basis spectra."""
+    k, _, n_each, n_stokes = lit.shape
+    c_bundle = np.empty(2 * k * n_each, np.int64)
+    c_combo = np.empty(2 * k * n_each, np.int64)
+    c_weight = np.empty((2 * k * n_each, n_stokes))
     nc = 0
     for s in range(k):
         if blocked[s]:
             continue
-        b = bundle[paths[shadow_row[s]]]
+        b = bundle[paths[rows[s]]]
         for lobe in range(2):
-            if lit[s, lobe, 0] != 0.0:
-                c_bundle[nc], c_combo[nc] = b, lit_key[s, lobe] * n_lights + sun_row
-                c_weight[nc] = lit[s, lobe]
-                nc += 1
+            for j in range(n_each):
+                if lit[s, lobe, j, 0] != 0.0:
+                    c_bundle[nc], c_combo[nc] = b, keys[s, lobe] * n_lights + first_light + j
+                    c_weight[nc] = lit[s, lobe, j]
+                    nc += 1
     return c_bundle[:nc], c_combo[:nc], c_weight[:nc]
 
 
@@ -330,7 +422,7 @@ def _sun_in_cones(origins, bundle, u, sun_dir, sun_cos, sun_solid_angle, cone_ax
         x, y, z = sample_sun(sun_dir, sun_cos, u[i, 0], u[i, 1])
         theta = np.arccos(min(max(cone_axis[b, 0] * x + cone_axis[b, 1] * y + cone_axis[b, 2] * z, -1.0), 1.0))
         acceptance = np.exp(-0.5 * (theta / sigma) ** 2)
-        if acceptance == 0.0:
+        if acceptance < NEGLIGIBLE_ACCEPTANCE:
             continue
         weight[ns] = acceptance / (2.0 * np.pi * sigma * sigma) / (cone_density(theta, sigma) + p_sun)
         rays[ns, 0], rays[ns, 1], rays[ns, 2] = origins[b, 0], origins[b, 1], origins[b, 2]
@@ -410,7 +502,7 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
 
 
 def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=None, first_samples=None,
-                rs=None, counts=None, cones=None, frames=None, target=None):
+                rs=None, counts=None, cones=None, frames=None, target=None, sky_sampling=SKY_SAMPLING[0]):
     """Spectral radiance arriving along bundles of rays, averaged per bundle; with ``frames``, its Stokes vector.
 
     Parameters
@@ -456,6 +548,12 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         flower fills, as its samples met it, leaves and petals in front of
         it included).
 
+    sky_sampling : {"nee", "escape"}
+        ``nee`` (the default): the sky is also sampled from every surface,
+        by next-event estimation from its table, weighed against the
+        surface's own sampling by multiple importance sampling; ``escape``:
+        a path sees the sky only where it escapes the scene.
+
     Returns
     -------
     ndarray, shape (n, n_wavelengths), or (n, 3, n_wavelengths) with ``frames``
@@ -488,6 +586,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         np.ascontiguousarray(cones[0], float), np.broadcast_to(np.asarray(cones[1], float), (n,)).copy())
     material_args = (lights.glows, lights.emission, surfaces.specular, surfaces.exponent,
                      surfaces.refractive_index, surfaces.mean_rho, surfaces.max_rho, radix, len(lights.spectra), eps)
+    if sky_sampling not in SKY_SAMPLING:
+        raise ValueError(f"sky_sampling must be one of {', '.join(SKY_SAMPLING)}, not {sky_sampling!r}")
+    nee = sky_sampling == "nee" and sky is not None
+    sky_nee_args = (nee, *_sky_table(sky, lights.spectra[:0 if sky is None else len(sky.basis)]))
 
     bundle = np.repeat(np.arange(n), s)
     stream = bundle if streams is None else np.repeat(streams, s)
@@ -522,6 +624,7 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
             contributions.append((bundle[rows[seen]], np.full(seen.sum(), lights.sun, np.int64), sunlight))
 
     paths = np.arange(n * s)
+    last_pdf = np.zeros(n * s)
     cover = None
     for event in range(depth + 1):
         out = first_hits(rs, rays)
@@ -532,16 +635,20 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
         material = np.full(len(paths), -1, np.int64)
         material[hit] = surfaces.material(out["geometry_ids"][hit].astype(np.int64),
                                           out["primitive_ids"][hit].astype(np.int64), out["primitive_uvs"][hit])
-        found, shadow, rows, lit, lit_key, scattered = _arrive(
+        found, shadow, rows, lit, lit_key, scattered, sky_shadow, sky_rows, sky_lit, sky_key = _arrive(
             event, depth, rays, paths, out["t_hit"], out["primitive_normals"], material, w, key, bound, sequences,
-            numbers, bundle, stream, sample, seed, mueller, frame, *sky_args, *sun_args, cone_axis, cone_sigma,
-            *material_args)
+            numbers, bundle, stream, sample, seed, mueller, frame, last_pdf, *sky_args, *sky_nee_args, *sun_args,
+            cone_axis, cone_sigma, *material_args)
         contributions.append(found)
         if len(rows):
             blocked = occluded(rs, shadow)
             counts["shadow"] += len(rows)
-            contributions.append(_sunlit(paths, rows, blocked, lit, lit_key, bundle, lights.sun,
-                                         len(lights.spectra)))
+            contributions.append(_through(paths, rows, blocked, lit[:, :, None], lit_key, bundle, lights.sun,
+                                          len(lights.spectra)))
+        if len(sky_rows):
+            blocked = occluded(rs, sky_shadow)
+            counts["shadow"] += len(sky_rows)
+            contributions.append(_through(paths, sky_rows, blocked, sky_lit, sky_key, bundle, 0, len(lights.spectra)))
         if event == depth or not scattered.any():
             break
         paths, rays = paths[scattered], rays[scattered]
@@ -562,6 +669,23 @@ def _target_share(rays, t_hit, hit, w, bundle, n, centre, radius):
     radius = np.broadcast_to(np.asarray(radius, float), (n,))[bundle[rows]]
     inside = np.linalg.norm(point - centre, axis=1) <= radius
     return np.bincount(bundle[rows[inside]], weights=w[rows[inside]], minlength=n)
+
+
+def _sky_table(sky, spectra):
+    """The sky's sampling table (:func:`beeoptics.light.emitters.sky_table`), made once per sky."""
+    if sky is None:
+        return np.zeros(2), np.zeros((1, 2)), np.zeros((1, 1))
+    key = (sky.sun.tobytes(), sky.shape.tobytes(), float(sky.cos_floor), float(sky.cos_offset), bool(sky.hemisphere),
+           np.asarray(spectra).tobytes())
+    # Batches are traced on several threads at once: the table is made under a lock, once.
+    with _SKY_LOCK:
+        if key not in _SKY_TABLES:
+            _SKY_TABLES.clear()  # one sky at a time is traced: keep the last
+            _SKY_TABLES[key] = sky_table(sky, spectra)
+        return _SKY_TABLES[key]
+
+
+_SKY_TABLES, _SKY_LOCK = {}, threading.Lock()
 
 
 def _frames(reference, directions):

@@ -18,7 +18,6 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-import open3d as o3d
 from scipy.spatial.transform import Rotation
 
 from beeoptics.headframe import head_rotation
@@ -27,10 +26,11 @@ from beeoptics.io.imagefile import read_image
 from beeoptics.io.meshfile import read_mesh
 from beeoptics.io.validation import load_yaml, validate
 from beeoptics.light.daylight import clear_sky
+from beeoptics.light import scenecache
 from beeoptics.light.materials import material, spectrum
 from beeoptics.light.sky import CLEAR_SKIES, Sky, clear_sky_dome, luminance, uniform_sky
 from beeoptics.light.sun import Sun, sun_disc
-from beeoptics.raycasting import embree_scene, first_hits
+from beeoptics.raycasting import embree_scene, first_hits, open3d
 
 
 class SceneObject(NamedTuple):
@@ -108,7 +108,7 @@ def _primitive(spec):
         h = args["size_m"] / 2.0
         v = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]])
         return v, np.array([[0, 1, 2], [0, 2, 3]])
-    mesh = o3d.geometry.TriangleMesh.create_sphere(args["radius_m"], resolution=4 * 2 ** args["subdivisions"])
+    mesh = open3d().geometry.TriangleMesh.create_sphere(args["radius_m"], resolution=4 * 2 ** args["subdivisions"])
     return np.asarray(mesh.vertices), np.asarray(mesh.triangles)
 
 
@@ -150,7 +150,7 @@ def bee_camera(position, head, width_px=320, height_px=240):
             "width_px": width_px, "height_px": height_px}
 
 
-def load_scene(path, wavelengths, light=None, eye=None, geometry=True):
+def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=True):
     """Read and check a scene file.
 
     Parameters
@@ -165,6 +165,10 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True):
     geometry : bool
         Read its objects; without them (for what needs only the light and
         the materials) the scene has none, and is not checked for light.
+    cache : bool
+        Take its objects and materials from the scene cache, or put them
+        there (:mod:`beeoptics.light.scenecache`), when its files are as
+        they were.
     """
     path = Path(path)
     data = load_yaml(path)
@@ -176,8 +180,14 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True):
     base = path.parent
     wl = np.asarray(wavelengths, float)
     names = list(data["materials"])
-    mats = [material(data["materials"][n], wl, base, path, n) for n in names]
-    objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])] if geometry else []
+    key = scenecache.scene_key(data, base, wl) if geometry and cache else None
+    cached = scenecache.read(key) if key else None
+    if cached is not None:
+        objects = [SceneObject(**o) for o in cached[0]]
+        mats = [{k: cached[1][k][i] for k in scenecache.MATERIAL_ARRAYS} for i in range(len(names))]
+    else:
+        mats = [material(data["materials"][n], wl, base, path, n) for n in names]
+        objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])] if geometry else []
 
     sky, sun = _light(data["light"], wl, base, path)
     # An emitting material lights the scene only if some object is made of it.
@@ -196,6 +206,8 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True):
     head = head_rotation(e["heading_deg"], e["pitch_deg"], e["roll_deg"])
     every = np.vstack([o.vertices for o in objects] + [np.zeros((1, 3))])
     n_wl = len(wl)
+    if key and cached is None:
+        scenecache.write(key, objects, {k: np.array([m[k] for m in mats]) for k in scenecache.MATERIAL_ARRAYS}, names)
     return Scene(
         name=data["name"], path=path, objects=objects, material_names=names,
         reflectance=np.array([m["reflectance"] for m in mats]).reshape(-1, n_wl),
@@ -269,7 +281,7 @@ def back_faces_met(rs, origins, axes):
 
     A receptor inside a closed mesh, or below a ground, meets only back faces;
     among two-sided open surfaces (blades, petals) about as many backs as
-    fronts face a receptor at random, so a majority of backs says the eye is
+    fronts face a receptor at random, so nearly all backs says the eye is
     enclosed rather than among them.
     """
     hits = first_hits(rs, np.column_stack([origins, axes]).astype(np.float32))

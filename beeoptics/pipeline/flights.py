@@ -14,14 +14,15 @@ import numpy as np
 
 from beeoptics.eye.fieldofview import visual_field
 from beeoptics.images import figures
-from beeoptics.images.display import bee_colours, encode
+from beeoptics.images.display import bee_colours, encode, map3
 from beeoptics.images.fieldmaps import paint
 from beeoptics.io.atomic import atomic_path, write_json
-from beeoptics.io.imagefile import write_gif
+from beeoptics.io.imagefile import write_gif, write_mp4
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
-from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_receptors
+from beeoptics.light.sky import horizontal_irradiance
+from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
@@ -245,3 +246,85 @@ def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_s
     first = first_detections(columns)
     write_json(outputs["first"], first)
     figures.flight_detection(columns, first, receptor_set.detection, outputs["figure"], title)
+
+
+#: Frames traced at once by :func:`flight_views`: their receptors' cones in one call, so that
+#: Embree's batches stay full however few receptors an eye has.
+VIEW_FRAMES_AT_ONCE = 8
+
+
+def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *, fps, spectral, settings,
+                 receptor_set, receptor_curves=SPECIES, width_px=MAP_WIDTH_PX, progress=None):
+    """Views along a route, light and long: every receptor's catches at every frame of a flight, in one job.
+
+    The scene is loaded once and every frame's receptors are traced with
+    the flight's ``views`` settings (by default depth 1, 16 samples: direct
+    light, the sun and the sky), :data:`VIEW_FRAMES_AT_ONCE` frames a call.
+    Writes ``catches`` (npz: ``catches`` frames × receptors × classes,
+    float32, each class's quantum catch of the receptor's radiance over
+    that of a white Lambertian surface under the scene's light, map3's
+    unit; ``classes``, ``id``, ``side``, ``t_s``, ``position_m``,
+    ``rotation``) and ``video`` (MP4 at ``fps``: map3 on the visual field
+    beside the human view of ``human_npzs``, the shares of
+    :func:`human_frames`, when given).
+
+    Returns
+    -------
+    dict
+        ``frames``, ``rays`` (every ray cast), ``trace_s`` (the tracing's wall time).
+    """
+    wl = grid(**spectral)
+    scene = load_scene(scene_file, wl)
+    rs = raycasting_scene(scene)
+    table = read_receptors(receptors_csv)
+    sens = curves(receptor_set, wl, receptor_curves)
+    white = quantum_catches(horizontal_irradiance(scene.sky, scene.sun, len(wl))[None] / np.pi, sens, wl)[0]
+    flight = read_flight(flight_file)
+    poses = [pose(flight, t) for t in frame_times(flight, fps)]
+    n, width = len(table.id), int(table.id.max()) + 1
+    types = ommatidium_types(receptor_set, n)
+    absent = lacking(receptor_set, types) if types is not None else np.zeros((n, len(receptor_set.classes)), bool)
+    catches = np.empty((len(poses), n, len(receptor_set.classes)), np.float32)
+    rays, seconds = 0, 0.0
+    for start in range(0, len(poses), VIEW_FRAMES_AT_ONCE):
+        chunk = poses[start:start + VIEW_FRAMES_AT_ONCE]
+        origins = np.vstack([table.position * 1e-3 @ p.rotation.T + p.position for p in chunk])
+        axes = np.vstack([table.axis @ p.rotation.T for p in chunk])
+        # Each frame draws random numbers of its own: a receptor's id offset by the frame's.
+        streams = np.concatenate([(start + k) * width + table.id for k in range(len(chunk))]).astype(np.int64)
+        radiance, counts = trace_cones(scene, origins, axes, np.tile(table.delta_rho_deg, len(chunk)), streams, 0,
+                                       len(origins), settings, len(wl), rs=rs)
+        q = (quantum_catches(radiance, sens, wl) / white).reshape(len(chunk), n, -1)
+        q[:, absent] = np.nan
+        catches[start:start + len(chunk)] = q
+        rays += counts["cast"] + counts["shadow"]
+        seconds += counts["seconds"]
+        if progress is not None:
+            progress(start + len(chunk), len(poses))
+    with atomic_path(outputs["catches"]) as tmp:
+        np.savez(tmp, catches=catches, classes=np.array(receptor_set.classes), id=table.id,
+                 side=np.asarray(table.side).astype(str), t_s=np.array([p.time for p in poses]),
+                 position_m=np.array([p.position for p in poses]), rotation=np.array([p.rotation for p in poses]))
+    field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, width_px)
+    humans = np.concatenate([np.load(f)["srgb"] for f in human_npzs]) if human_npzs else None
+    frames = [video_frame(field, map3(catches[k], receptor_set.display), None if humans is None else humans[k])
+              for k in range(len(poses))]
+    write_mp4(outputs["video"], frames, fps)
+    return {"frames": len(poses), "rays": rays, "trace_s": seconds}
+
+
+def video_frame(field, colours, human=None):
+    """One frame of a views video, uint8 (h, w, 3): map3 of each receptor on the equirectangular visual
+    field, azimuth running to the bee's left as on the animation's maps, grey where no receptor sees, and
+    the human view (sRGB in [0, 1]) beside it, scaled to the map's height."""
+    rgb = encode(paint(field, colours))
+    rgb = np.where(np.isnan(rgb), 0.35, rgb)[:, ::-1]
+    image = np.rint(rgb * 255.0).astype(np.uint8)
+    if human is None:
+        return image
+    h = image.shape[0]
+    rows = np.minimum((np.arange(h) * human.shape[0] / h).astype(int), human.shape[0] - 1)
+    width = int(round(human.shape[1] * h / human.shape[0]))
+    cols = np.minimum((np.arange(width) * human.shape[1] / width).astype(int), human.shape[1] - 1)
+    beside = np.rint(np.clip(human[rows][:, cols], 0.0, 1.0) * 255.0).astype(np.uint8)
+    return np.hstack([image, np.full((h, 4, 3), 255, np.uint8), beside])

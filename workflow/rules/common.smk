@@ -101,6 +101,7 @@ def all_targets():
     flights = [f"results/flights/{name}/{eye}/{product}" for name, flight in config["flights"].items()
                for eye in flight["eyes"]
                for product in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png",
+                               "views.npz", "views.mp4",
                                *(("detection.csv", "detection.json", "detection.png") if "target" in flight else ()))]
     polarisation = expand("results/{eye}/{scene}/polarisation/{name}", eye=config["polarisation"]["eyes"],
                           scene=config["polarisation"]["scenes"],

@@ -122,3 +122,33 @@ rule flight_detection:
         "results/logs/flights/{flight}/{eye}/detection.log",
     script:
         "../scripts/flight_detection.py"
+
+
+rule flight_views:
+    input:
+        receptors="results/eyes/{eye}/receptors.csv",
+        scene=flight_scene_sources,
+        flight=flight_file,
+        human=lambda w: flight_shares(w)["human"],
+        curves=sensitivity_files,
+    output:
+        catches="results/flights/{flight}/{eye}/views.npz",
+        video=report("results/flights/{flight}/{eye}/views.mp4", caption="../report/views.rst",
+                     category="Flights", subcategory="{flight}"),
+    params:
+        eye=eye_file,
+        scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
+        spectral=config["spectral"],
+        trace=lambda w: {**config["trace"], **{k: config["flights"][w.flight]["views"][k]
+                                              for k in ("samples_per_receptor", "depth")}},
+        fps=lambda w: config["flights"][w.flight]["fps"],
+        width_px=lambda w: config["flights"][w.flight]["views"]["width_px"],
+        receptor_curves=config["colour"]["sensitivities"],
+    log:
+        "results/logs/flights/{flight}/{eye}/views.log",
+    threads: 8
+    resources:
+        mem_mb=4000,
+        runtime=60,
+    script:
+        "../scripts/flight_views.py"

@@ -1,0 +1,165 @@
+"""A cache of loaded scenes: their geometry and materials as arrays numpy memory-maps, reused while the
+files that made them are unchanged.
+
+Loading a generated meadow reads and checks a 40 MB PLY of a million faces
+and looks up FReD's spectra, seconds each time a job starts. A loaded
+scene's objects (vertices, faces, each face's or texel's material, texture
+coordinates) and its materials on the spectral grid are therefore written,
+once, as ``.npy`` files beside a ``manifest.json`` in a folder named by a
+key: the SHA-256 of the package's version, the cache's layout, the scene's
+checked ``materials`` and ``objects`` sections, the spectral grid, the
+contents of every file they name (meshes, textures, spectra) and the
+versions of the packages whose data they read (dreye's FReD). A later load
+with the same key maps the arrays instead of reading the files again; the
+light (sky and sun), which sweeps and flights change, is made each time.
+
+The cache lives in ``$BEEOPTICS_CACHE``, else ``$XDG_CACHE_HOME/beeoptics``,
+else ``~/.cache/beeoptics``; a folder that cannot be written is simply not
+used. An entry is written into a scratch folder and renamed into place, so
+a reader never meets half of one, and is checked when read: a manifest
+that does not parse, or an array whose file is missing or whose shape or
+type is not the manifest's, is refused with a warning naming it, and the
+scene is loaded from its files and the entry written again.
+"""
+
+import hashlib
+import json
+import logging
+import os
+import shutil
+import tempfile
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+import numpy as np
+
+from beeoptics import __version__
+
+log = logging.getLogger("beeoptics")
+
+#: The entries' layout: a change to what is stored, or how, starts new keys.
+LAYOUT = 1
+#: Packages whose installed data a scene's spectra may read.
+DATA_PACKAGES = ("dreye",)
+#: Entries kept: when one more is written, the least recently used beyond these are removed.
+MAX_ENTRIES = 16
+#: The arrays of an object, and those of the materials, as the manifest names them.
+OBJECT_ARRAYS = ("vertices", "faces", "face_material", "texture", "uv")
+MATERIAL_ARRAYS = ("reflectance", "emission", "specular", "exponent", "refractive_index")
+
+
+def cache_root():
+    """The cache's folder (see the module notes)."""
+    if os.environ.get("BEEOPTICS_CACHE"):
+        return Path(os.environ["BEEOPTICS_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "beeoptics"
+
+
+def _named_files(data, base):
+    """Every file the scene's objects and materials name, relative to its folder, in order."""
+    files = []
+
+    def walk(value):
+        if isinstance(value, dict):
+            for k, v in value.items():
+                if k in ("mesh", "image", "file") and isinstance(v, str):
+                    files.append(base / v)
+                else:
+                    walk(v)
+        elif isinstance(value, list):
+            for v in value:
+                walk(v)
+
+    walk({"objects": data["objects"], "materials": data["materials"]})
+    return files
+
+
+def scene_key(data, base, wavelengths):
+    """The key of a checked scene's geometry and materials on a spectral grid (see the module notes)."""
+    h = hashlib.sha256()
+    h.update(f"beeoptics {__version__} layout {LAYOUT}\n".encode())
+    for name in DATA_PACKAGES:
+        try:
+            h.update(f"{name} {version(name)}\n".encode())
+        except PackageNotFoundError:
+            h.update(f"{name} absent\n".encode())
+    h.update(json.dumps({"objects": data["objects"], "materials": data["materials"]}, sort_keys=True,
+                        default=str).encode())
+    h.update(np.ascontiguousarray(wavelengths, float).tobytes())
+    for path in _named_files(data, base):
+        h.update(str(path.name).encode())
+        try:
+            with open(path, "rb") as f:
+                for block in iter(lambda: f.read(1 << 22), b""):
+                    h.update(block)
+        except OSError:
+            h.update(b"missing")
+    return h.hexdigest()
+
+
+def read(key):
+    """The cached objects and materials of ``key``: (objects as dicts of arrays, materials dict), or None."""
+    folder = cache_root() / key
+    manifest = folder / "manifest.json"
+    if not manifest.is_file():
+        return None
+    try:
+        spec = json.loads(manifest.read_text())
+
+        def array(entry):
+            if entry is None:
+                return None
+            a = np.load(folder / entry["file"], mmap_mode="r", allow_pickle=False)
+            if list(a.shape) != entry["shape"] or str(a.dtype) != entry["dtype"]:
+                raise ValueError(f"{entry['file']} is {a.dtype}{list(a.shape)}, not {entry['dtype']}{entry['shape']}")
+            return a
+
+        objects = [{"name": o["name"], **{k: array(o["arrays"][k]) for k in OBJECT_ARRAYS}} for o in spec["objects"]]
+        materials = {k: array(spec["materials"][k]) for k in MATERIAL_ARRAYS}
+        os.utime(manifest)  # used: the last to be evicted
+        return objects, {**materials, "names": spec["material_names"]}
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        log.warning("scene cache %s is unreadable (%s): loading the scene from its files", folder, e)
+        return None
+
+
+def write(key, objects, materials, names):
+    """Write a loaded scene's objects (SceneObjects) and materials (dict of arrays) as entry ``key``; False
+    if the cache's folder cannot be written."""
+    root = cache_root()
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        scratch = Path(tempfile.mkdtemp(prefix=f".{key[:12]}-", dir=root))
+    except OSError:
+        return False
+    try:
+        def put(name, value):
+            if value is None:
+                return None
+            value = np.ascontiguousarray(value)
+            np.save(scratch / f"{name}.npy", value, allow_pickle=False)
+            return {"file": f"{name}.npy", "shape": list(value.shape), "dtype": str(value.dtype)}
+
+        spec = {"key": key, "material_names": list(names),
+                "materials": {k: put(k, materials[k]) for k in MATERIAL_ARRAYS},
+                "objects": [{"name": o.name, "arrays": {k: put(f"object{i}_{k}", getattr(o, k)) for k in OBJECT_ARRAYS}}
+                            for i, o in enumerate(objects)]}
+        (scratch / "manifest.json").write_text(json.dumps(spec, indent=1))
+        target = root / key
+        if target.exists():
+            shutil.rmtree(target, ignore_errors=True)
+        os.replace(scratch, target)
+        _evict(root)
+        return True
+    except OSError:
+        shutil.rmtree(scratch, ignore_errors=True)
+        return False
+
+
+def _evict(root):
+    """Remove the least recently used entries beyond :data:`MAX_ENTRIES`."""
+    entries = sorted((p for p in root.iterdir() if (p / "manifest.json").is_file()),
+                     key=lambda p: (p / "manifest.json").stat().st_mtime, reverse=True)
+    for old in entries[MAX_ENTRIES:]:
+        shutil.rmtree(old, ignore_errors=True)

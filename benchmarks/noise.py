@@ -1,0 +1,96 @@
+"""Benchmark: how noisy an eye pair's catches are with each way of sampling the sky, and at what cost.
+
+    python benchmarks/noise.py --eye worker --scene meadow --spp 256 --depth 3
+
+Traces both eyes of ``--eye`` (results/eyes/<eye>/receptors.csv, built first
+if missing) through ``--scene`` (a folder of scenes/, by default the
+generated meadow, generated if missing) with two seeds, once with the sky
+sampled at every surface (``default``: next-event estimation weighed by
+multiple importance sampling, ``trace.sky_sampling: nee``) and once with the
+sky seen only where paths escape (``escape``). Each receptor's relative
+standard error of a class's catch is estimated from its two seeds,
+|q₁ − q₂| / √2 over their mean (the standard deviation of one run's
+estimate), over the receptors that caught light.
+
+The last line printed is one JSON object: per estimator, ``median_rel_se``
+and ``p90_rel_se`` of the G catch and ``trace_s`` (the mean of the two
+seeds' trace times), the same for every class under ``classes``, and
+``efficiency_ratio``, (p90² · trace_s) of ``escape`` over that of
+``default``: how many times fewer seconds the default needs for the same
+noise in the noisiest tenth of the receptors. Bounds (issue 25):
+efficiency ≥ 2 and the default's p90 ≤ 3 % at 256 samples.
+"""
+
+import argparse
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.light.batching import TraceSettings
+from beeoptics.light.scene import load_scene, raycasting_scene
+from beeoptics.pipeline.trace import trace_receptors
+from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
+from beeoptics.spectra import grid
+from beeoptics.vision.catches import quantum_catches
+from beeoptics.vision.receptorset import curves, receptor_set_of
+
+ROOT = Path(__file__).resolve().parents[1]
+#: The two seeds whose difference estimates the noise.
+SEEDS = (1, 2)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--eye", default="worker")
+    parser.add_argument("--scene", default="meadow")
+    parser.add_argument("--spp", type=int, default=256)
+    parser.add_argument("--depth", type=int, default=3)
+    parser.add_argument("--threads", type=int, default=2)
+    args = parser.parse_args(argv)
+    config = validate_config({}, CONFIG_SCHEMA, folders=False)
+    receptors = ROOT / "results" / "eyes" / args.eye / "receptors.csv"
+    if not receptors.exists():
+        subprocess.run([sys.executable, "-m", "beeoptics.cli", "build-eye",
+                        str(ROOT / "eyes" / args.eye / "eye.yaml"), "-o", str(receptors.parent), "--quiet"], check=True)
+    folder = ROOT / "scenes" / args.scene
+    if (folder / MEADOW_FILE).exists() and not (folder / MEADOW_MESH).exists():
+        subprocess.run([sys.executable, "-m", "beeoptics.cli", "meadow", str(folder / MEADOW_FILE), "-o",
+                        str(folder / MEADOW_MESH)], check=True, stdout=subprocess.DEVNULL)
+    wl = grid(**config["spectral"])
+    scene = load_scene(folder / "scene.yaml", wl)
+    rs = raycasting_scene(scene)
+    table = read_receptors(receptors)
+    receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")
+    sens = curves(receptor_set, wl)
+    result = {"eye": args.eye, "scene": args.scene, "spp": args.spp, "depth": args.depth, "threads": args.threads,
+              "receptors": len(table.id)}
+    for name, sampling in (("default", "nee"), ("escape", "escape")):
+        catches, seconds = [], []
+        for seed in SEEDS:
+            settings = TraceSettings(args.spp, args.depth, seed, config["trace"]["batch_rays"], args.threads, sampling)
+            radiance, counts = trace_receptors(scene, table, 0, len(table.id), settings, len(wl), rs=rs)
+            catches.append(quantum_catches(radiance, sens, wl))
+            seconds.append(counts["seconds"])
+        q1, q2 = catches
+        mean = 0.5 * (q1 + q2)
+        lit = (mean > 0).all(axis=1)
+        rel = np.abs(q1 - q2)[lit] / np.sqrt(2.0) / mean[lit]
+        per_class = {c: {"median_rel_se": float(np.median(rel[:, k])),
+                         "p90_rel_se": float(np.percentile(rel[:, k], 90))} for k, c in enumerate(receptor_set.classes)}
+        g = receptor_set.classes[receptor_set.achromatic]
+        result[name] = {**per_class[g], "trace_s": float(np.mean(seconds)), "classes": per_class}
+        noise = ", ".join(f"{c} median {v['median_rel_se']:.4f}, p90 {v['p90_rel_se']:.4f}"
+                          for c, v in per_class.items())
+        print(f"{name}: {noise}; trace {np.mean(seconds):.1f} s", flush=True)
+    d, e = result["default"], result["escape"]
+    result["efficiency_ratio"] = float(e["p90_rel_se"] ** 2 * e["trace_s"] / (d["p90_rel_se"] ** 2 * d["trace_s"]))
+    print(json.dumps(result))
+
+
+if __name__ == "__main__":
+    main()
