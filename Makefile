@@ -1,6 +1,6 @@
 # Two commands do everything on a fresh machine (Debian/Ubuntu, Python 3.11, as root):
 #   make workflow   set up, then run the default workflow (also plain `make`)
-#   make test       set up, then run the test suite
+#   make test       set up (with Chromium, for the viewers' tests), then run the test suite
 # Set-up installs the system library Open3D needs, creates .venv and installs the
 # package with every dependency pinned; it is skipped when nothing changed.
 
@@ -10,16 +10,20 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 CORES ?= all
 
-.PHONY: workflow test setup system
+.PHONY: workflow test setup system browser
 .DEFAULT_GOAL := workflow
 
 workflow: setup
 	$(BIN)/snakemake --cores $(CORES)
 
-test: setup
+test: setup browser
 	$(BIN)/pytest
 
 setup: system $(STAMP)
+
+# The tests open the interactive viewers in a real browser: Debian's Chromium, headless.
+browser:
+	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && apt-get install -y -qq chromium; }
 
 # Open3D's pip wheel links against libusb-1.0.
 system:

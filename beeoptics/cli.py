@@ -25,7 +25,8 @@ from beeoptics.headframe import SIDES, eye_azimuth_elevation
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, rows_of, write_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
-from beeoptics.pipeline.outputs import COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES, colour_figures, retinal_images
+from beeoptics.pipeline.outputs import (COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES, VIEWER, colour_figures,
+                                        retinal_images)
 
 #: Options that set a key of the workflow's config: option, dotted key, type, help (units included).
 GRID = [
@@ -201,7 +202,7 @@ def render(args):
     check_background(args.scene, background, args.scene, "materials")
     retinal = retinal_images(receptor_set) if args.eye is not None else {}
     spaces = colour_figures(receptor_set) if args.figures else {}
-    figures = {**FIELD_MAPS, **spaces} if args.figures else {}
+    figures = {**FIELD_MAPS, **spaces, **VIEWER} if args.figures else {}
     title = f"{Path(args.receptors).stem} in {Path(args.scene).parent.name}"
     names = ["responses.csv", "irradiance.npz", *retinal.values(), *figures.values()]
     with staged(args.output, names) as tmp:
@@ -226,6 +227,9 @@ def render(args):
             images.colour_figures(tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in spaces.items()}, receptor_set=receptor_set,
                                   title=title, receptor_curves=curves)
+            images.viewer(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+                          {key: tmp / name for key, name in VIEWER.items()}, receptor_set=receptor_set, title=title,
+                          receptor_curves=curves)
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
@@ -564,7 +568,8 @@ def parser():
                    "receptor class (channel_uv.png, ... for a bee)")
     p.add_argument("--figures", action="store_true", help="also write the visual field of both eyes ("
                    + ", ".join(FIELD_MAPS.values()) + ") and the colour-space figures the receptor set has ("
-                   + ", ".join(COLOUR_FIGURES.values()) + " for a bee)")
+                   + ", ".join(COLOUR_FIGURES.values()) + " for a bee) and the interactive viewer ("
+                   + ", ".join(VIEWER.values()) + ", one page that opens offline in a browser)")
     p.add_argument("--threads", type=_count, default=os.cpu_count(),
                    help="batches traced at once; the result is the same for any number (default: %(default)s, "
                    "the machine's cores)")

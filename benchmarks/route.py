@@ -73,7 +73,8 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         start = time.perf_counter()
         out = flights.flight_views(receptors, folder / "scene.yaml", folder / args.flight, [],
-                                   {"catches": Path(tmp) / "views.npz", "video": Path(tmp) / "views.mp4"}, fps=fps,
+                                   {"catches": Path(tmp) / "views.npz", "video": Path(tmp) / "views.mp4",
+                                    "viewer": Path(tmp) / "viewer.html"}, fps=fps,
                                    spectral=config["spectral"], settings=settings,
                                    receptor_set=receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml"))
         wall = time.perf_counter() - start - load_s  # the stage loads the scene itself: counted apart

@@ -1,6 +1,9 @@
 """Shared fixtures: the spectral grid, meshes, the reference data, scene files."""
 
 import os
+import shutil
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
@@ -11,6 +14,7 @@ import yaml
 from beeoptics.spectra import grid
 
 ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "tests" / "data"
 SHARED = ROOT.parent / "shared" / "data"
 # The tests' scene cache is their own (beeoptics.light.scenecache), not the user's; the workflows they
 # run inherit it.
@@ -81,3 +85,49 @@ def write_scene(path, scene):
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(yaml.safe_dump(scene, sort_keys=False))
     return path
+
+
+SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+
+
+def run(workdir, *args):
+    return subprocess.run(
+        [SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
+         "--configfile", str(workdir / "config.yaml"), "--cores", "2", *args],
+        capture_output=True, text=True, cwd=workdir)
+
+
+@pytest.fixture(scope="session")
+def workdir(tmp_path_factory):
+    """The workflow run once on a small eye and small scenes, every stage and product; for the workflow's
+    and the viewers' tests."""
+    work = tmp_path_factory.mktemp("workflow")
+    shutil.copytree(DATA / "eyes", work / "eyes")
+    shutil.copytree(DATA / "scenes", work / "scenes")
+    # The fly, a measured eye built fast (its ommatidia are given), for the comparison target.
+    shutil.copytree(ROOT / "eyes" / "drosophila_melanogaster", work / "eyes" / "drosophila_melanogaster")
+    # A dorsal rim area, for the polarisation stages: the 12 facets nearest the dorsal margin (a test value).
+    with open(work / "eyes" / "tiny" / "eye.yaml", "a") as f:
+        f.write("dorsal_rim: {count: 12}\n")
+    config = {
+        "eyes": ["tiny"], "scenes": ["open", "flower"],
+        "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
+        "spectral": {"start_nm": 300, "end_nm": 700, "step_nm": 10},
+        "trace": {"samples_per_receptor": 16, "depth": 2, "seed": 3},
+        "images": {"width_px": 64, "visual_field_width_px": 180},
+        "sweeps": {"demo": {"eyes": ["tiny"], "scenes": ["flower"], "delta_rho_deg": [1.5, 4.0],
+                            "sun_elevation_deg": [20, 70]}},
+        "flights": {"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"], "fps": 10,
+                             "samples_per_receptor": 4, "target": {"position_m": [0.1, 0.0, 0.12], "radius_m": 0.02},
+                             "human_view": {"width_px": 40, "height_px": 30, "samples_per_pixel": 1}}},
+        "comparison": {"eyes": ["tiny", "drosophila_melanogaster"]},
+        "detection": {"eyes": ["tiny"], "scenes": ["generated"], "flowers_per_species": 1, "directions": 2,
+                      "distances": {"steps": 4}, "samples_per_receptor": 4, "depth": 1},
+        "polarisation": {"eyes": ["tiny"], "scenes": ["flower"], "samples_per_receptor": 8,
+                         "compass": {"headings": 8, "turbidities": [5], "heights_m": [0.02]}},
+    }
+    (work / "config.yaml").write_text(yaml.safe_dump(config))
+    # The workflow's own files (report captions) are found beside its Snakefile.
+    result = run(work)
+    assert result.returncode == 0, result.stderr[-3000:]
+    return work

@@ -395,7 +395,7 @@ def test_render_can_write_the_visual_field_and_colour_space_figures(built, tmp_p
     code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, out, "--figures",
                                              "--field-width-px", "90"))
     assert code == 0, err
-    for name in ("visual_field.png", "visual_field.exr", "triangle.png", "hexagon.png"):
+    for name in ("visual_field.png", "visual_field.exr", "triangle.png", "hexagon.png", "viewer.html"):
         assert (out / name).stat().st_size > 0, name
 
 

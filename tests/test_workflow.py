@@ -1,10 +1,7 @@
 """The workflow end to end, on a small eye and two small scenes, through Snakemake's CLI."""
 
 import json
-import shutil
 import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,52 +10,7 @@ import yaml
 from beeoptics.io.imagefile import read_image
 from beeoptics.pipeline.trace import gather_responses
 from beeoptics.io.table import read_table
-from conftest import ROOT
-
-DATA = ROOT / "tests" / "data"
-SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
-
-
-def run(workdir, *args):
-    return subprocess.run(
-        [SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
-         "--configfile", str(workdir / "config.yaml"), "--cores", "2", *args],
-        capture_output=True, text=True, cwd=workdir)
-
-
-@pytest.fixture(scope="module")
-def workdir(tmp_path_factory):
-    work = tmp_path_factory.mktemp("workflow")
-    shutil.copytree(DATA / "eyes", work / "eyes")
-    shutil.copytree(DATA / "scenes", work / "scenes")
-    # The fly, a measured eye built fast (its ommatidia are given), for the comparison target.
-    shutil.copytree(ROOT / "eyes" / "drosophila_melanogaster", work / "eyes" / "drosophila_melanogaster")
-    # A dorsal rim area, for the polarisation stages: the 12 facets nearest the dorsal margin (a test value).
-    with open(work / "eyes" / "tiny" / "eye.yaml", "a") as f:
-        f.write("dorsal_rim: {count: 12}\n")
-    config = {
-        "eyes": ["tiny"], "scenes": ["open", "flower"],
-        "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
-        "spectral": {"start_nm": 300, "end_nm": 700, "step_nm": 10},
-        "trace": {"samples_per_receptor": 16, "depth": 2, "seed": 3},
-        "images": {"width_px": 64, "visual_field_width_px": 180},
-        "sweeps": {"demo": {"eyes": ["tiny"], "scenes": ["flower"], "delta_rho_deg": [1.5, 4.0],
-                            "sun_elevation_deg": [20, 70]}},
-        "flights": {"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"], "fps": 10,
-                             "samples_per_receptor": 4, "target": {"position_m": [0.1, 0.0, 0.12], "radius_m": 0.02},
-                             "human_view": {"width_px": 40, "height_px": 30, "samples_per_pixel": 1}}},
-        "comparison": {"eyes": ["tiny", "drosophila_melanogaster"]},
-        "detection": {"eyes": ["tiny"], "scenes": ["generated"], "flowers_per_species": 1, "directions": 2,
-                      "distances": {"steps": 4}, "samples_per_receptor": 4, "depth": 1},
-        "polarisation": {"eyes": ["tiny"], "scenes": ["flower"], "samples_per_receptor": 8,
-                         "compass": {"headings": 8, "turbidities": [5], "heights_m": [0.02]}},
-    }
-    (work / "config.yaml").write_text(yaml.safe_dump(config))
-    # The workflow's own files (report captions) are found beside its Snakefile.
-    result = run(work)
-    assert result.returncode == 0, result.stderr[-3000:]
-    return work
-
+from conftest import ROOT, SNAKEMAKE, run
 
 def test_every_artifact_is_written(workdir):
     eye = workdir / "results" / "eyes" / "tiny"

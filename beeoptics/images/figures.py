@@ -171,7 +171,7 @@ def _locus_labels(wl, xy, width):
     return [(f"{a:g}" if a == b else f"{a:g}–{b:g}", p) for a, p, b in groups]
 
 
-def colour_space(points, colours, outline, locus, path, title, locus_label, labels):
+def colour_space(points, colours, outline, loci, path, title, labels):
     """Receptor colours in a bee colour space (Collins Fig. 5b), with the spectral locus.
 
     Parameters
@@ -183,14 +183,13 @@ def colour_space(points, colours, outline, locus, path, title, locus_label, labe
     outline : ndarray (k, 2)
         Vertices of the space's outline (triangle or hexagon), UV first,
         around the origin.
-    locus : SpectralLocus-like (wavelengths, xy)
-        Monochromatic lights, drawn as a line with every 50 nm labelled.
-    locus_label : str
-        The legend's words for the locus: which lights, at what intensity.
+    loci : sequence of (wavelengths, xy, label)
+        Spectral loci, monochromatic lights: the first a solid line with
+        every 50 nm labelled, any further one dashed; each ``label`` the
+        legend's words for it (which lights, at what intensity).
     labels : sequence of str
         Names of the receptor vertices, in the order of the first outline vertices.
     """
-    wl, xy = locus
     fig = Figure(figsize=(5.4, 6.0), layout="constrained")
     ax = fig.subplots()
     ax.plot(*np.vstack([outline, outline[:1]]).T, color="0.5", linewidth=0.8)
@@ -201,8 +200,11 @@ def colour_space(points, colours, outline, locus, path, title, locus_label, labe
         ax.annotate(name, vertex, xytext=8 * out, textcoords="offset points", fontsize=10, color="0.25",
                     ha="left" if out[0] > 0.3 else "right" if out[0] < -0.3 else "center",
                     va="bottom" if out[1] > 0.3 else "top" if out[1] < -0.3 else "center")
-    ax.plot(*xy.T, color="k", linewidth=0.8, label=locus_label)
+    for k, (_, xy, label) in enumerate(loci):
+        ax.plot(*xy.T, color="k" if k == 0 else "0.45", linewidth=0.8, linestyle="-" if k == 0 else "--",
+                label=label)
     width = np.ptp(outline[:, 0])
+    wl, xy, _ = loci[0]
     for text, p in _locus_labels(wl, xy, width):
         ax.plot(*p, ".", color="k", markersize=3)
         ax.annotate(text, p, xytext=(3, 3), textcoords="offset points", fontsize=7)

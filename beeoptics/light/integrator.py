@@ -74,7 +74,7 @@ from beeoptics.light.emitters import Lights, sample_sky, sample_sun, sky_density
 from beeoptics.light.hosekwilkie import shape_radiance
 from beeoptics.light.mueller import depolarise, double_angle, plane_normal, reflect, reflect_column
 from beeoptics.light.sampler import shifted_halton, tangent_frames, uniform1
-from beeoptics.light.scattering import Surfaces, phong, scatter
+from beeoptics.light.scattering import Surfaces, glossy_share, lobes, scatter
 from beeoptics.light.scene import raycasting_scene
 from beeoptics.light.skypolarisation import degree, polarisation
 from beeoptics.light.sensors import cone_density
@@ -114,7 +114,7 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
             sample, seed, mueller, frame, last_pdf, has_sky, sky_sun, sky_shape, sky_floor, sky_offset,
             sky_hemisphere, sky_neutral, sky_max_degree, sky_depolarisation, sky_nee, sky_rows, sky_cols, sky_table,
             sun_row, sun_dir, sun_cos, sun_solid_angle, cone_axis, cone_sigma, glows, emission_row, specular,
-            exponent, refractive_index, mean_rho, max_rho, radix, n_lights, eps):
+            exponent, roughness, refractive_index, coat_table, mean_rho, max_rho, radix, n_lights, eps):
     """What the paths ``paths`` meet along ``rays``: light where they leave the scene or meet a glowing
     surface (as contributions), and, at a surface, the sun's shadow ray and the scattered ray.
 
@@ -175,6 +175,7 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     scattered = np.zeros(m, np.bool_)
     sky = np.empty(max(n_sky, 1))
     d, normal, mirror, s_plane, e_vector = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    view = np.empty(3)
     du = np.empty(3)
     nc = ns = 0
     for r in range(m):
@@ -245,7 +246,10 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
             cos_o = -cos_o
         for k in range(3):
             mirror[k] = 2.0 * cos_o * normal[k] + d[k]
+            view[k] = -d[k]
             rays[r, k] = np.float64(rays[r, k]) + np.float64(t_hit[r]) * d[k] + eps * normal[k]
+        alpha, eta, table = roughness[mat], refractive_index[mat], coat_table[mat]
+        p_glossy = glossy_share(cos_o, specular[mat], mean_rho[mat], alpha, table)
         dim = event * DIMENSIONS_PER_EVENT
         rho_key = _number(sequences, numbers, sequences[key[i]] * radix + (mat + 1))
         if sun_row >= 0:
@@ -257,22 +261,22 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
                 shadow[ns, 0], shadow[ns, 1], shadow[ns, 2] = rays[r, 0], rays[r, 1], rays[r, 2]
                 shadow[ns, 3], shadow[ns, 4], shadow[ns, 5] = lx, ly, lz
                 base = w[i] * cos_l * sun_solid_angle
-                glint = base * phong(specular[mat], exponent[mat], mirror, lx, ly, lz)
-                _put(lit[ns], 0, base / np.pi, mueller, i, 0)
+                diffuse, f, _, _ = lobes(normal, mirror, view, lx, ly, lz, specular[mat], exponent[mat], alpha, eta,
+                                         table, p_glossy)
+                glint = base * f
+                _put(lit[ns], 0, base / np.pi * diffuse, mueller, i, 0)
                 _put(lit[ns], 1, glint, mueller, i, 0)
                 if n_stokes == 3 and glint != 0.0:
                     # The sun's unpolarised light, polarised by the glossy reflection.
                     plane_normal(du, lx, ly, lz, s_plane)
                     c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
                     lit[ns, 1, 0], lit[ns, 1, 1], lit[ns, 1, 2] = reflect_column(
-                        mueller[i], c2, s2, _half_cosine(du, lx, ly, lz), refractive_index[mat])
+                        mueller[i], c2, s2, _half_cosine(du, lx, ly, lz), eta)
                     for q in range(3):
                         lit[ns, 1, q] *= glint
                 lit_key[ns, 0], lit_key[ns, 1], shadow_row[ns] = rho_key, key[i], r
                 ns += 1
-        albedo = mean_rho[mat] + specular[mat]
-        p_glossy = specular[mat] / albedo if albedo > 0.0 else 0.0
-        if sky_nee and n_sky and albedo > 0.0:
+        if sky_nee and n_sky and (alpha > 0.0 or mean_rho[mat] + specular[mat] > 0.0):
             # Next-event estimation towards the sky, drawn from its table.
             lx, ly, lz, p_table = sample_sky(sky_rows, sky_cols, sky_table,
                                              uniform1(seed, stream[i], sample[i], dim + 6),
@@ -280,13 +284,12 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
             cos_l = normal[0] * lx + normal[1] * ly + normal[2] * lz
             if cos_l > 0.0 and p_table > 0.0:
                 shape_radiance(lx, ly, lz, sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere, sky)
-                cos_a = max(mirror[0] * lx + mirror[1] * ly + mirror[2] * lz, 0.0)
-                # The densities with which each lobe's own sampling would have drawn this direction.
-                p_diffuse = (1.0 - p_glossy) * cos_l / np.pi
-                p_lobe = p_glossy * (exponent[mat] + 1.0) / (2.0 * np.pi) * cos_a ** exponent[mat]
+                # Both lobes, and the densities with which each lobe's own sampling would have drawn this direction.
+                coupled, f, p_diffuse, p_lobe = lobes(normal, mirror, view, lx, ly, lz, specular[mat], exponent[mat],
+                                                      alpha, eta, table, p_glossy)
                 base = w[i] * cos_l / p_table
-                diffuse = base / np.pi * p_table / (p_table + p_diffuse)
-                glint = base * phong(specular[mat], exponent[mat], mirror, lx, ly, lz) * p_table / (p_table + p_lobe)
+                diffuse = base / np.pi * coupled * p_table / (p_table + p_diffuse)
+                glint = base * f * p_table / (p_table + p_lobe)
                 size = c2 = s2 = 0.0
                 if n_stokes == 3:
                     size = polarisation(lx, ly, lz, sky_sun, sky_neutral, e_vector)
@@ -296,7 +299,7 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
                         for b2 in range(3):
                             chain[a, b2] = mueller[i, a, b2]
                     c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
-                    reflect(chain, c2, s2, _half_cosine(du, lx, ly, lz), refractive_index[mat])
+                    reflect(chain, c2, s2, _half_cosine(du, lx, ly, lz), eta)
                     dl[0], dl[1], dl[2] = lx, ly, lz
                     c2, s2 = double_angle(e_vector[0], e_vector[1], e_vector[2], s_plane, dl)
                 for k in range(n_sky):
@@ -314,22 +317,18 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
                 sky_shadow[nk, 3], sky_shadow[nk, 4], sky_shadow[nk, 5] = lx, ly, lz
                 sky_key[nk, 0], sky_key[nk, 1], sky_row[nk] = rho_key, key[i], r
                 nk += 1
-        x, y, z, factor, glossy = scatter(normal, mirror, specular[mat], exponent[mat], mean_rho[mat],
-                                          uniform1(seed, stream[i], sample[i], dim + 2),
-                                          uniform1(seed, stream[i], sample[i], dim + 3),
-                                          uniform1(seed, stream[i], sample[i], dim + 4))
+        x, y, z, factor, glossy, density = scatter(normal, mirror, view, specular[mat], exponent[mat], mean_rho[mat],
+                                                   alpha, eta, table, uniform1(seed, stream[i], sample[i], dim + 2),
+                                                   uniform1(seed, stream[i], sample[i], dim + 3),
+                                                   uniform1(seed, stream[i], sample[i], dim + 4))
         w[i] *= factor
         if sky_nee:
-            if glossy:
-                cos_a = max(mirror[0] * x + mirror[1] * y + mirror[2] * z, 0.0)
-                last_pdf[i] = p_glossy * (exponent[mat] + 1.0) / (2.0 * np.pi) * cos_a ** exponent[mat]
-            else:
-                last_pdf[i] = (1.0 - p_glossy) * max(normal[0] * x + normal[1] * y + normal[2] * z, 0.0) / np.pi
+            last_pdf[i] = density
         if n_stokes == 3:
             plane_normal(du, x, y, z, s_plane)
             if glossy:
                 c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
-                reflect(mueller[i], c2, s2, _half_cosine(du, x, y, z), refractive_index[mat])
+                reflect(mueller[i], c2, s2, _half_cosine(du, x, y, z), eta)
             else:
                 depolarise(mueller[i])
             for k in range(3):
@@ -584,8 +583,9 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
                 (lights.sun, sun.direction.astype(float), float(sun.cos_radius), float(sun.solid_angle)))
     cone_axis, cone_sigma = (np.zeros((n, 3)), np.zeros(n)) if cones is None else (
         np.ascontiguousarray(cones[0], float), np.broadcast_to(np.asarray(cones[1], float), (n,)).copy())
-    material_args = (lights.glows, lights.emission, surfaces.specular, surfaces.exponent,
-                     surfaces.refractive_index, surfaces.mean_rho, surfaces.max_rho, radix, len(lights.spectra), eps)
+    material_args = (lights.glows, lights.emission, surfaces.specular, surfaces.exponent, surfaces.roughness,
+                     surfaces.refractive_index, surfaces.coat_table, surfaces.mean_rho, surfaces.max_rho, radix,
+                     len(lights.spectra), eps)
     if sky_sampling not in SKY_SAMPLING:
         raise ValueError(f"sky_sampling must be one of {', '.join(SKY_SAMPLING)}, not {sky_sampling!r}")
     nee = sky_sampling == "nee" and sky is not None

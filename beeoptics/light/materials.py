@@ -32,14 +32,25 @@ A spectrum in a scene file is one of:
     hemisphere: true, radiance: …}`` (:mod:`beeoptics.light.daylightrecords`;
     Spitschan et al.'s records start at 360 nm, so the grid must too).
 
-A material is ``{reflectance: <spectrum>, gloss: {specular: ks, exponent: n,
-refractive_index: η}, emission: <spectrum>}``; only ``reflectance`` is
-required. The BRDF is Lambertian with the spectral reflectance, plus, with
-``gloss``, a normalised Phong lobe (Lafortune & Willems 1994) of spectrally
-flat albedo ``ks``, as the surface reflection of a dielectric such as a waxy
-leaf cuticle is; η sets how that reflection polarises (Fresnel; see
-:mod:`beeoptics.light.mueller`), :data:`CUTICLE_REFRACTIVE_INDEX` unless
-given.
+A material is ``{reflectance: <spectrum>, coating: {roughness: α,
+refractive_index: η}, emission: <spectrum>}`` or, in place of ``coating``,
+``gloss: {specular: ks, exponent: n, refractive_index: η}``; only
+``reflectance`` is required. The BRDF is Lambertian with the spectral
+reflectance, plus one of two surface reflections:
+
+- ``coating``: a rough dielectric interface over the Lambertian base
+  (:mod:`beeoptics.light.coating`; Mitsuba 3's ``roughplastic``, pbrt-v4's
+  coated diffuse): GGX microfacets of roughness α (0 < α ≤ 1), whose
+  reflection follows Fresnel's equations for η in strength and in
+  polarisation, the light it does not reflect passed to the base. What
+  water, a waxy cuticle or a glossy petal is.
+- ``gloss``: a normalised Phong lobe (Lafortune & Willems 1994) of
+  spectrally flat albedo ``ks``, whatever the angle: an empirical sheen,
+  kept for the scenes that use it. η sets only how it polarises (Fresnel's
+  matrix divided by its first element; see :mod:`beeoptics.light.mueller`),
+  not how strong it is.
+
+η is :data:`CUTICLE_REFRACTIVE_INDEX` unless given.
 
 References
 ----------
@@ -129,22 +140,25 @@ def spectrum(spec, wavelengths, base_dir, source, field):
 
 
 def material(spec, wavelengths, base_dir, source, name):
-    """A material's reflectance, emission and gloss, checked.
+    """A material's reflectance, emission and surface reflection, checked.
 
     Returns
     -------
     dict
         ``reflectance`` and ``emission`` on the grid, ``specular`` (albedo
-        of the glossy lobe), ``exponent`` (its Phong exponent) and
-        ``refractive_index`` (how it polarises; :data:`CUTICLE_REFRACTIVE_INDEX`
-        unless given).
+        of the Phong lobe), ``exponent`` (its Phong exponent),
+        ``roughness`` (the coating's α; 0 without a coating) and
+        ``refractive_index`` (the coating's or the lobe's η;
+        :data:`CUTICLE_REFRACTIVE_INDEX` unless given).
     """
     field = f"materials.{name}"
     if not isinstance(spec, dict) or "reflectance" not in spec:
         raise InputError(source, field, "a material needs a reflectance")
-    unknown = set(spec) - {"reflectance", "gloss", "emission"}
+    unknown = set(spec) - {"reflectance", "gloss", "coating", "emission"}
     if unknown:
         raise InputError(source, f"{field}.{sorted(unknown)[0]}", "unknown material property")
+    if "gloss" in spec and "coating" in spec:
+        raise InputError(source, f"{field}.coating", "a material has a coating or a gloss, not both")
     rho = spectrum(spec["reflectance"], wavelengths, base_dir, source, f"{field}.reflectance")
     gloss = spec.get("gloss", {"specular": 0.0, "exponent": 1.0})
     ks = float(gloss.get("specular", 0.0))
@@ -154,8 +168,15 @@ def material(spec, wavelengths, base_dir, source, name):
     emission = spectrum(spec.get("emission", 0.0), wavelengths, base_dir, source, f"{field}.emission")
     if np.isnan(emission).any() or emission.min() < 0.0:
         raise InputError(source, f"{field}.emission", "emission must be non-negative")
-    n = gloss.get("refractive_index", CUTICLE_REFRACTIVE_INDEX)
+    surface = "coating" if "coating" in spec else "gloss"
+    coat = spec.get("coating", {})
+    if not isinstance(coat, dict) or set(coat) - {"roughness", "refractive_index"}:
+        raise InputError(source, f"{field}.coating", "a coating is {roughness: α, refractive_index: η}")
+    alpha = coat.get("roughness", 0.0) if "coating" in spec else 0.0
+    if "coating" in spec and (not isinstance(alpha, (int, float)) or not 0.0 < alpha <= 1.0):
+        raise InputError(source, f"{field}.coating.roughness", "a coating's roughness α must be a number in (0, 1]")
+    n = (coat if "coating" in spec else gloss).get("refractive_index", CUTICLE_REFRACTIVE_INDEX)
     if not isinstance(n, (int, float)) or not 1.0 <= n <= 4.0:
-        raise InputError(source, f"{field}.gloss.refractive_index", "a refractive index must be a number in [1, 4]")
+        raise InputError(source, f"{field}.{surface}.refractive_index", "a refractive index must be a number in [1, 4]")
     return {"reflectance": rho, "emission": emission, "specular": ks,
-            "exponent": float(gloss.get("exponent", 1.0)), "refractive_index": float(n)}
+            "exponent": float(gloss.get("exponent", 1.0)), "roughness": float(alpha), "refractive_index": float(n)}

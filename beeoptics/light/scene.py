@@ -53,7 +53,8 @@ class Scene(NamedTuple):
     """A loaded scene: geometry, materials on the spectral grid, the light, the bee and the camera.
 
     ``reflectance`` and ``emission`` are (materials, wavelengths); ``specular``,
-    ``exponent`` and ``refractive_index`` (materials,) the glossy lobe of each material; ``sky``
+    ``exponent`` (materials,) each material's Phong lobe, ``roughness`` its
+    coating's α (0 for none) and ``refractive_index`` the η of either; ``sky``
     and ``sun`` are None where the scene has none. ``eye_rotation`` has the
     head's axes as columns, in the world frame; ``extent`` is the diagonal of
     the scene's bounding box, m.
@@ -67,6 +68,7 @@ class Scene(NamedTuple):
     emission: np.ndarray
     specular: np.ndarray
     exponent: np.ndarray
+    roughness: np.ndarray
     refractive_index: np.ndarray
     sky: Sky | None
     sun: Sun | None
@@ -214,6 +216,7 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=Tru
         emission=np.array([m["emission"] for m in mats]).reshape(-1, n_wl),
         specular=np.array([m["specular"] for m in mats]),
         exponent=np.array([m["exponent"] for m in mats]),
+        roughness=np.array([m["roughness"] for m in mats]),
         refractive_index=np.array([m["refractive_index"] for m in mats]),
         sky=sky, sun=sun,
         eye_position=np.asarray(e["position_m"], float), eye_rotation=head,

@@ -38,14 +38,14 @@ from beeoptics import __version__
 log = logging.getLogger("beeoptics")
 
 #: The entries' layout: a change to what is stored, or how, starts new keys.
-LAYOUT = 1
+LAYOUT = 2
 #: Packages whose installed data a scene's spectra may read.
 DATA_PACKAGES = ("dreye",)
 #: Entries kept: when one more is written, the least recently used beyond these are removed.
 MAX_ENTRIES = 16
 #: The arrays of an object, and those of the materials, as the manifest names them.
 OBJECT_ARRAYS = ("vertices", "faces", "face_material", "texture", "uv")
-MATERIAL_ARRAYS = ("reflectance", "emission", "specular", "exponent", "refractive_index")
+MATERIAL_ARRAYS = ("reflectance", "emission", "specular", "exponent", "roughness", "refractive_index")
 
 
 def cache_root():

@@ -15,6 +15,7 @@ import numpy as np
 from beeoptics.eye.fieldofview import visual_field
 from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode, map3
+from beeoptics.images.viewer import flight_viewer
 from beeoptics.images.fieldmaps import paint
 from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.imagefile import write_gif, write_mp4
@@ -22,6 +23,7 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
 from beeoptics.light.sky import horizontal_irradiance
+from beeoptics.pipeline.images import display_words
 from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
@@ -254,7 +256,7 @@ VIEW_FRAMES_AT_ONCE = 8
 
 
 def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *, fps, spectral, settings,
-                 receptor_set, receptor_curves=SPECIES, width_px=MAP_WIDTH_PX, progress=None):
+                 receptor_set, receptor_curves=SPECIES, width_px=MAP_WIDTH_PX, title="", progress=None):
     """Views along a route, light and long: every receptor's catches at every frame of a flight, in one job.
 
     The scene is loaded once and every frame's receptors are traced with
@@ -264,9 +266,11 @@ def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *,
     float32, each class's quantum catch of the receptor's radiance over
     that of a white Lambertian surface under the scene's light, map3's
     unit; ``classes``, ``id``, ``side``, ``t_s``, ``position_m``,
-    ``rotation``) and ``video`` (MP4 at ``fps``: map3 on the visual field
+    ``rotation``), ``video`` (MP4 at ``fps``: map3 on the visual field
     beside the human view of ``human_npzs``, the shares of
-    :func:`human_frames`, when given).
+    :func:`human_frames`, when given) and ``viewer``
+    (:func:`beeoptics.images.viewer.flight_viewer`: the frames on the
+    visual field with a slider, titled ``title``).
 
     Returns
     -------
@@ -310,6 +314,12 @@ def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *,
     frames = [video_frame(field, map3(catches[k], receptor_set.display), None if humans is None else humans[k])
               for k in range(len(poses))]
     write_mp4(outputs["video"], frames, fps)
+    flight_viewer(outputs["viewer"], table, [encode(map3(c, receptor_set.display)) for c in catches], catches,
+                  receptor_set.classes, [p.time for p in poses], title,
+                  f"map3 (Collins §4.4): {display_words(receptor_set)}, each catch over a white Lambertian "
+                  "surface's under the scene's light, so white shows white; traced with the flight's views settings "
+                  f"({settings.samples} samples a receptor, depth {settings.depth}). Every receptor of both eyes at "
+                  "its axis in the head's frame; hover for its catches at the frame shown.")
     return {"frames": len(poses), "rays": rays, "trace_s": seconds}
 
 

@@ -9,7 +9,7 @@ import numpy as np
 from beeoptics.eye.description import load_eye
 from beeoptics.eye.fieldofview import visual_field
 from beeoptics.images import figures
-from beeoptics.images.display import bee_colours, encode
+from beeoptics.images.display import bee_colours, encode, polarisation_colours
 from beeoptics.images.fieldmaps import paint
 from beeoptics.headframe import in_eye_plane
 from beeoptics.pipeline.outputs import channel
@@ -122,11 +122,14 @@ def colour_figures(responses_csv, irradiance_npz, outputs, *, receptor_set, titl
     """Every receptor's colour in the bee colour triangle and hexagon (Collins Fig. 5b), those the set has.
 
     The spectral locus's lights are adapted to the same background as the
-    receptors. In the triangle their intensity does not matter; in the
-    hexagon each is drawn at the intensity that puts it furthest from the
-    centre (:func:`beeoptics.vision.colourspace.widest_spectral_locus`),
-    relative to the photon flux of a white Lambertian surface under the
-    scene's sky and sun, and the figure's legend states the range.
+    receptors. In the triangle their intensity does not matter. In the
+    hexagon it does (excitation saturates), so the locus is drawn, as in
+    pavo, at one stated intensity: each monochromatic light carrying the
+    photon flux of a white Lambertian surface under the scene's sky and sun
+    (:func:`hexagon_locus`); a second, dashed line takes each light at the
+    intensity that puts it furthest from the centre
+    (:func:`beeoptics.vision.colourspace.widest_spectral_locus`), the edge of
+    what monochromatic lights can reach, its legend stating the range.
     ``outputs`` maps ``triangle`` and ``hexagon`` (as the set has them) to PNG paths.
     """
     if not outputs:  # a set without the bee colour spaces (not a trichromat's): nothing to draw
@@ -134,24 +137,50 @@ def colour_figures(responses_csv, irradiance_npz, outputs, *, receptor_set, titl
     columns = [c for space, names in (("triangle", ["tri_x", "tri_y"]), ("hexagon", ["hex_x", "hex_y"]))
                if space in outputs for c in names]
     resp, data, _, (_, _, srgb) = _responses(responses_csv, irradiance_npz, receptor_set, columns)
-    wl = data["wavelength_nm"]
-    white = photon_flux(data["white_radiance"], wl).sum()
-    colour = receptor_set.chromatic
-    locus, intensity = colourspace.widest_spectral_locus(curves(receptor_set, wl, receptor_curves)[:, colour], wl,
-                                                         data["background_q"][colour], white)
-    labels = [receptor_set.classes[k] for k in colour]
+    locus, label = hexagon_locus(data, receptor_set, receptor_curves)
+    labels = [receptor_set.classes[k] for k in receptor_set.chromatic]
     if "triangle" in outputs:
         figures.colour_space(np.column_stack([resp["tri_x"], resp["tri_y"]]), srgb, colourspace.TRIANGLE_VERTICES,
-                             (locus.wavelengths, locus.triangle), outputs["triangle"],
-                             f"{title}: receptor colours in the bee colour triangle",
-                             "spectral locus: monochromatic lights (any intensity)", labels)
+                             [(locus.wavelengths, locus.triangle, "spectral locus: monochromatic lights (any "
+                               "intensity)")], outputs["triangle"],
+                             f"{title}: receptor colours in the bee colour triangle", labels)
     if "hexagon" in outputs:
+        widest, intensity = widest_locus(data, receptor_set, receptor_curves)
         figures.colour_space(np.column_stack([resp["hex_x"], resp["hex_y"]]), srgb, colourspace.HEXAGON_OUTLINE,
-                             (locus.wavelengths, locus.hexagon), outputs["hexagon"],
-                             f"{title}: receptor colours in the colour hexagon (Chittka 1992)",
-                             "spectral locus: each monochromatic light at the intensity that puts it furthest out,\n"
-                             f"{intensity.min():.2g}–{intensity.max():.2g} × a white surface's photon flux "
-                             "under the scene's light", labels)
+                             [(locus.wavelengths, locus.hexagon, label),
+                              (widest.wavelengths, widest.hexagon,
+                               "furthest out: each light at the intensity that puts it furthest from the centre,\n"
+                               f"{intensity.min():.2g}–{intensity.max():.2g} × that flux")],
+                             outputs["hexagon"], f"{title}: receptor colours in the colour hexagon (Chittka 1992)",
+                             labels)
+
+
+#: The stated intensity of the hexagon's spectral locus, for the legends.
+LOCUS_WORDS = ("spectral locus: monochromatic lights, each with the photon flux of a white surface under the "
+               "scene's light")
+
+
+def _locus_inputs(data, receptor_set, receptor_curves):
+    wl = data["wavelength_nm"]
+    colour = receptor_set.chromatic
+    return (curves(receptor_set, wl, receptor_curves)[:, colour], wl, data["background_q"][colour],
+            photon_flux(data["white_radiance"], wl).sum())
+
+
+def hexagon_locus(data, receptor_set, receptor_curves=SPECIES):
+    """The spectral locus at one stated intensity, and its legend.
+
+    Each light is a spike of one grid bin carrying the whole photon flux of
+    a white Lambertian surface under the scene's light (the irradiance
+    file's ``white_radiance``), adapted to the scene's background: a light
+    as bright, in photons, as white paper beside the receptors.
+    """
+    return colourspace.spectral_locus(*_locus_inputs(data, receptor_set, receptor_curves)), LOCUS_WORDS
+
+
+def widest_locus(data, receptor_set, receptor_curves=SPECIES):
+    """:func:`beeoptics.vision.colourspace.widest_spectral_locus` relative to the flux of :func:`hexagon_locus`."""
+    return colourspace.widest_spectral_locus(*_locus_inputs(data, receptor_set, receptor_curves))
 
 
 def sensitivity_figure(outputs, *, spectral, receptor_set, receptor_curves=SPECIES):
@@ -161,3 +190,49 @@ def sensitivity_figure(outputs, *, spectral, receptor_set, receptor_curves=SPECI
     sens = curves(receptor_set, wl, receptor_curves)
     figures.sensitivities(wl, sens, receptor_set.classes, overall(receptor_set, wl, sens), outputs["figure"],
                           describe(receptor_set, receptor_curves))
+
+
+def viewer(receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_set, polarisation_csv=None, title="",
+           receptor_curves=SPECIES):
+    """The interactive viewer of one eye in one scene: ``outputs["viewer"]``, a self-contained HTML page
+    (:func:`beeoptics.images.viewer.receptor_viewer`).
+
+    Coloured by map3, each receptor class over white's catch, map2 and, with
+    ``polarisation_csv`` (a polarisation stage's table), polarisation; the
+    hexagon, for a species that has one, linked to the map, its spectral
+    locus the monochromatic lights of a white surface's photon flux.
+    """
+    from beeoptics.images.viewer import receptor_viewer
+
+    table = read_receptors(receptors_csv)
+    columns = ["hex_x", "hex_y"] if "hexagon" in receptor_set.spaces else []
+    resp, data, catches, (relative, colours, srgb) = _responses(responses_csv, irradiance_npz, receptor_set, columns)
+    shown = {"map3": encode(colours)}
+    for k, name in enumerate(receptor_set.classes):
+        shown[name] = np.repeat(np.clip(relative[:, k:k + 1], 0.0, 1.0), 3, axis=1)
+    shown["map2"] = srgb
+    hover = {"Δφ, °": table.delta_phi_deg, "Δρ, °": table.delta_rho_deg, "facet, µm": table.facet_diameter_um,
+             **{f"{c} catch": catches[:, k] for k, c in enumerate(receptor_set.classes)},
+             **{f"{c} ÷ white's": relative[:, k] for k, c in enumerate(receptor_set.classes)}}
+    for name in ("hex_x", "hex_y", "rnl_dS"):
+        if name in resp:
+            hover[name] = resp[name]
+    space = None
+    if columns:
+        locus, label = hexagon_locus(data, receptor_set, receptor_curves)
+        space = {"x": resp["hex_x"], "y": resp["hex_y"], "outline": colourspace.HEXAGON_OUTLINE,
+                 "locus": locus.hexagon, "name": "colour hexagon (Chittka 1992): select receptors here or on the map",
+                 "locus_label": label}
+    pol = None
+    if polarisation_csv is not None:
+        p = read_table(polarisation_csv, numeric=["id"], text=["side"])
+        klass = receptor_set.classes[receptor_set.polarisation] if receptor_set.polarisation is not None else None
+        if klass is not None and f"{klass}_degree" in p:
+            pol = polarisation_colours(p[f"{klass}_degree"], p[f"{klass}_angle_deg"])
+            hover[f"{klass} polarisation degree"] = p[f"{klass}_degree"]
+            hover[f"{klass} e-vector angle, °"] = p[f"{klass}_angle_deg"]
+    caption = (f"map3 (Collins §4.4): {display_words(receptor_set)}, each catch over a white Lambertian surface's "
+               "under the scene's light, so white shows white; a class alone: its catch over white's, 0 black, "
+               "1 white; map2: the receptor's light in human colour (CIE 1931, sRGB). Every receptor of both "
+               "eyes at its axis; hover for its numbers.")
+    receptor_viewer(outputs["viewer"], table, shown, hover, title, caption, space, pol)

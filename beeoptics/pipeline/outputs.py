@@ -5,6 +5,8 @@ FACET_OUTPUTS = {"receptors": "receptors.csv", "quality": "quality.json", "relax
 
 #: What :func:`beeoptics.pipeline.images.visual_field_maps` writes.
 FIELD_MAPS = {"figure": "visual_field.png", "exr": "visual_field.exr"}
+#: What :func:`beeoptics.pipeline.images.viewer` writes for one eye in one scene, and a flight's views for an eye.
+VIEWER = {"viewer": "viewer.html"}
 #: The colour-space figures :func:`beeoptics.pipeline.images.colour_figures` can write, for the spaces a
 #: receptor set has (:func:`colour_figures`).
 COLOUR_FIGURES = {"triangle": "triangle.png", "hexagon": "hexagon.png"}

@@ -5,7 +5,7 @@ from pathlib import Path
 
 from beeoptics.io.errors import InputError
 from beeoptics.pipeline import sweeps
-from beeoptics.pipeline.outputs import FIELD_MAPS, colour_figures, retinal_images
+from beeoptics.pipeline.outputs import FIELD_MAPS, VIEWER, colour_figures, retinal_images
 from beeoptics.pipeline.flights import shares
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_FLOWERS, MEADOW_MESH
 from beeoptics.vision.receptorset import SPECIES, TEMPLATE, receptor_set_of
@@ -31,7 +31,7 @@ except InputError as e:
 def eye_images(eye):
     """The images written for an eye in every scene: the retinal plane's, the visual field's, the colour spaces'."""
     rs = RECEPTOR_SETS[eye]
-    return [*retinal_images(rs).values(), *FIELD_MAPS.values(), *colour_figures(rs).values()]
+    return [*retinal_images(rs).values(), *FIELD_MAPS.values(), *colour_figures(rs).values(), *VIEWER.values()]
 
 
 wildcard_constraints:
@@ -101,7 +101,7 @@ def all_targets():
     flights = [f"results/flights/{name}/{eye}/{product}" for name, flight in config["flights"].items()
                for eye in flight["eyes"]
                for product in ("responses.csv", "optic_flow.csv", "target.csv", "animation.gif", "optic_flow.png",
-                               "views.npz", "views.mp4",
+                               "views.npz", "views.mp4", "viewer.html",
                                *(("detection.csv", "detection.json", "detection.png") if "target" in flight else ()))]
     polarisation = expand("results/{eye}/{scene}/polarisation/{name}", eye=config["polarisation"]["eyes"],
                           scene=config["polarisation"]["scenes"],

@@ -49,3 +49,30 @@ for set_name in dict.fromkeys(rs.name for rs in RECEPTOR_SETS.values()):
             "results/logs/images/{eye}/{scene}.log",
         script:
             "../scripts/images.py"
+
+
+def polarisation_table(wildcards):
+    """The polarisation stage's table, for the eyes and scenes it runs in (config polarisation)."""
+    pol = config["polarisation"]
+    traced = wildcards.eye in pol["eyes"] and wildcards.scene in pol["scenes"]
+    return {"polarisation": f"results/{wildcards.eye}/{wildcards.scene}/polarisation/polarisation.csv"} if traced else {}
+
+
+# The interactive viewer of one eye in one scene: a self-contained HTML page.
+rule viewer:
+    input:
+        unpack(polarisation_table),
+        receptors="results/eyes/{eye}/receptors.csv",
+        responses="results/{eye}/{scene}/responses.csv",
+        irradiance="results/{eye}/{scene}/irradiance.npz",
+        curves=sensitivity_files,
+    output:
+        viewer=report("results/{eye}/{scene}/" + VIEWER["viewer"], caption="../report/viewer.rst",
+                      category="Interactive viewers", subcategory="{eye} in {scene}"),
+    params:
+        eye=eye_file,
+        receptor_curves=config["colour"]["sensitivities"],
+    log:
+        "results/logs/viewer/{eye}/{scene}.log",
+    script:
+        "../scripts/viewer.py"

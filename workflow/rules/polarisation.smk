@@ -51,3 +51,11 @@ rule compass:
         mem_mb=4000,
     script:
         "../scripts/compass.py"
+
+
+# The pond (scenes/pond): water's horizontally polarised reflection as the worker sees it, with its
+# images and viewer. Not in the default run, for its time: `snakemake pond`.
+rule pond:
+    input:
+        expand("results/worker/pond/polarisation/{name}", name=["polarisation.csv", "field.png", "retina.png"]),
+        expand("results/worker/pond/{name}", name=["visual_field.png", "viewer.html"]),

@@ -9,6 +9,7 @@ with logging_to(snakemake.log[0]):
                         spectral=snakemake.params.spectral,
                         settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads),
                         receptor_set=receptor_set_of(snakemake.params.eye),
-                        receptor_curves=snakemake.params.receptor_curves, width_px=snakemake.params.width_px)
+                        receptor_curves=snakemake.params.receptor_curves, width_px=snakemake.params.width_px,
+                        title=f"{snakemake.wildcards.eye} along {snakemake.wildcards.flight}: views")
     log.info("%d frames traced in %.1f s, %d rays a frame", done["frames"], done["trace_s"],
              done["rays"] / max(done["frames"], 1))
