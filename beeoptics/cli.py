@@ -332,7 +332,15 @@ def meadow(args):
 
 
 def convert(args):
-    """Convert a receptor table to another format, each chosen by the file's extension."""
+    """Convert a receptor table to another format, each chosen by the file's extension.
+
+    What a format cannot hold is lost on the way: a CompoundRay .eye holds each
+    receptor's position, axis and acceptance angle only, so converting receptors.csv
+    to .eye and back drops facet_diameter_um, dorsal_rim and microvilli_deg, and the
+    table read back measures Δφ afresh from the axes' neighbours (for the worker a
+    median of 1.98° against the 2.49° of the table it came from). Keep
+    receptors.csv beside the .eye to keep them.
+    """
     from beeoptics.io import interchange, oces
 
     kind = _format(args.output)

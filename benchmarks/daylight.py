@@ -12,6 +12,8 @@ Hosek & Wilkie's own model gives, per channel, as a ratio to SPECTRL2's.
     .venv/bin/python benchmarks/daylight.py
 """
 
+import argparse
+
 import numpy as np
 
 from beeoptics.headframe import direction_from_x_towards_y
@@ -35,7 +37,8 @@ def scene_light(wl, elevation, albedo):
     return daylight, horizontal_irradiance(sky, sun, len(wl))
 
 
-def main():
+def main(argv=None):
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args(argv)
     wl = grid()
     albedo = ground_albedo("grass", wl, "benchmark", "grass")
     s = curves(load_receptor_set("apis_mellifera"), wl)

@@ -274,3 +274,24 @@ def test_a_flights_views_hold_every_receptors_catches_at_every_frame_and_play_as
 
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(flight / "views.mp4"))
     assert frames == len(target["frame"])
+
+
+def test_editing_a_flight_or_a_readme_reruns_no_trace_of_its_scene(workdir):
+    """A scene's flights and READMEs are not what its traces read; the flights' own rules read them."""
+    folder = workdir / "scenes" / "generated"
+    flight, readme = folder / "flights" / "approach.csv", folder / "flights" / "README.md"
+    text = flight.read_bytes()
+    readme.write_text("notes\n")
+    try:
+        # The same flight written otherwise (its first time 0.0 for 0): new content, which Snakemake sees
+        # (a new time alone it does not, when the content it recorded is unchanged).
+        flight.write_bytes(text.replace(b"\n0,", b"\n0.0,", 1))
+        dry = run(workdir, "--dry-run")
+        assert dry.returncode == 0, dry.stderr[-2000:]
+        outputs = [line for line in dry.stdout.splitlines() if line.strip().startswith("output:")]
+        assert any("results/flights/dive/" in line for line in outputs)
+        # Nothing of the scene's own: no trace in it, no survey of its flowers.
+        assert not any("results/tiny/generated/" in line or "results/detection/" in line for line in outputs)
+    finally:
+        readme.unlink()
+        flight.write_bytes(text)

@@ -43,9 +43,20 @@ wildcard_constraints:
     parts="[0-9]+",
 
 
+# The trace settings jobs trace with. `parts` only splits a trace into jobs (its results are
+# bit-identical), so it is left out: changing it reruns the trace's shares, not what reads them.
+TRACE = {k: v for k, v in config["trace"].items() if k != "parts"}
+
+#: What a folder holds for people, not for the stages that read it: its READMEs, and a scene's flights
+#: (which the flight rules read as their own input).
+NOT_READ = ("README.md", "flights")
+
+
 def folder_files(folder):
-    """Every file of an eye's or a scene's folder: editing any of them reruns what uses it."""
-    return sorted(str(p) for p in Path(folder).rglob("*") if p.is_file())
+    """Every file of an eye's or a scene's folder the stages read: editing any of them reruns what uses it."""
+    folder = Path(folder)
+    return sorted(str(p) for p in folder.rglob("*")
+                  if p.is_file() and not set(p.relative_to(folder).parts) & set(NOT_READ))
 
 
 def eye_sources(wildcards):

@@ -33,7 +33,7 @@ rule flight_frames:
     params:
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
-        trace=lambda w: {**config["trace"], "samples_per_receptor": config["flights"][w.flight]["samples_per_receptor"]},
+        trace=lambda w: {**TRACE, "samples_per_receptor": config["flights"][w.flight]["samples_per_receptor"]},
         fps=lambda w: config["flights"][w.flight]["fps"],
         frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
         target=lambda w: config["flights"][w.flight].get("target"),
@@ -58,7 +58,7 @@ rule flight_human_frames:
     params:
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
-        trace=config["trace"],
+        trace=TRACE,
         view=lambda w: config["flights"][w.flight]["human_view"],
         fps=lambda w: config["flights"][w.flight]["fps"],
         frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
@@ -141,7 +141,7 @@ rule flight_views:
         eye=eye_file,
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
-        trace=lambda w: {**config["trace"], **{k: config["flights"][w.flight]["views"][k]
+        trace=lambda w: {**TRACE, **{k: config["flights"][w.flight]["views"][k]
                                               for k in ("samples_per_receptor", "depth")}},
         fps=lambda w: config["flights"][w.flight]["fps"],
         width_px=lambda w: config["flights"][w.flight]["views"]["width_px"],

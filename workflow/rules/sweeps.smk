@@ -43,7 +43,7 @@ use rule trace as sweep_trace with:
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
-        trace=lambda w: {**config["trace"], **sweeps.variant_trace(sweep_variant(w))},
+        trace=lambda w: {**TRACE, **sweeps.variant_trace(sweep_variant(w))},
         light=lambda w: sweeps.variant_light(sweep_variant(w)),
     log:
         "results/logs/sweeps/{sweep}/{variant}/trace/{eye}/{scene}/{part}_of_{parts}.log",

@@ -10,7 +10,7 @@ rule trace:
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
-        trace=config["trace"],
+        trace=TRACE,
         light={},
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
@@ -56,7 +56,7 @@ rule human_view:
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
-        trace=config["trace"],
+        trace=TRACE,
         samples_per_pixel=config["human_view"]["samples_per_pixel"],
     log:
         "results/logs/human_view/{scene}.log",
