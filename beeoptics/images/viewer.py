@@ -27,7 +27,7 @@ import textwrap
 
 import numpy as np
 
-from beeoptics.headframe import RIGHT
+from beeoptics.headframe import LEFT, RIGHT, eye_azimuth_elevation
 from beeoptics.io.atomic import atomic_path
 
 #: Colour of the receptors a selection leaves out, and the size of a point on the map and the sphere.
@@ -107,8 +107,7 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
     from plotly.subplots import make_subplots
 
     axis = np.asarray(receptors.axis, float)
-    az = np.degrees(np.arctan2(axis[:, 1], axis[:, 0]))
-    el = np.degrees(np.arcsin(np.clip(axis[:, 2], -1.0, 1.0)))
+    az, el = eye_azimuth_elevation(axis, LEFT)  # head-frame azimuth, + to the bee's left, as the maps run
     colourings = dict(colours)
     if polarisation is not None:
         colourings["polarisation"] = polarisation
@@ -201,8 +200,7 @@ def flight_viewer(path, receptors, frames, catches, classes, times_s, title, cap
     import plotly.graph_objects as go
 
     axis = np.asarray(receptors.axis, float)
-    az = np.degrees(np.arctan2(axis[:, 1], axis[:, 0]))
-    el = np.degrees(np.arcsin(np.clip(axis[:, 2], -1.0, 1.0)))
+    az, el = eye_azimuth_elevation(axis, LEFT)  # head-frame azimuth, + to the bee's left, as the maps run
     eye = np.where(np.asarray(receptors.side).astype(str) == RIGHT, "right", "left")
     fixed = np.column_stack([receptors.id, az, el]).astype(np.float32)
     custom = [np.column_stack([fixed, c]).astype(np.float32) for c in catches]

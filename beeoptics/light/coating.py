@@ -114,7 +114,7 @@ def sample(normal, wi, alpha, u1, u2):
         ax, ay = -vy * inv, vx * inv
     else:
         ax, ay = 1.0, 0.0
-    bx, by, bz = vy * 0.0 - vz * ay, vz * ax - vx * 0.0, vx * ay - vy * ax
+    bx, by, bz = -vz * ay, vz * ax, vx * ay - vy * ax  # the view × (ax, ay, 0)
     r = np.sqrt(u1)
     phi = 2.0 * np.pi * u2
     p1, p2 = r * np.cos(phi), r * np.sin(phi)

@@ -13,6 +13,7 @@ the shares are cached and spread over a cluster's nodes.
 import numpy as np
 
 from beeoptics.eye.fieldofview import visual_field
+from beeoptics.headframe import LEFT, eye_azimuth_elevation
 from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode, map3
 from beeoptics.images.viewer import flight_viewer
@@ -144,8 +145,7 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
     seen = field.receptor >= 0
     # Receptor axes in the head frame: azimuth and elevation of each, for the flow's components.
     head_axes = table.axis / np.linalg.norm(table.axis, axis=1, keepdims=True)
-    az = np.degrees(np.arctan2(head_axes[:, 1], head_axes[:, 0]))
-    el = np.degrees(np.arcsin(np.clip(head_axes[:, 2], -1.0, 1.0)))
+    az, el = eye_azimuth_elevation(head_axes, LEFT)  # azimuth + to the bee's left
     responses, flows, targets, frames = [], [], [], []
     # The animation's second panel: the class of the shortest peak (the bee's UV, which the sky fills).
     shortest = int(np.argmin(np.where(np.isnan(receptor_set.lambda_max_nm), np.inf, receptor_set.lambda_max_nm)))
