@@ -203,7 +203,9 @@ def render(args):
     retinal = retinal_images(receptor_set) if args.eye is not None else {}
     spaces = colour_figures(receptor_set) if args.figures else {}
     figures = {**FIELD_MAPS, **spaces, **VIEWER} if args.figures else {}
-    title = f"{Path(args.receptors).stem} in {Path(args.scene).parent.name}"
+    # As the workflow titles them: the eye class (its folder) in the scene (its folder).
+    who = Path(args.eye).resolve().parent.name if args.eye else Path(args.receptors).stem
+    title = f"{who} in {Path(args.scene).resolve().parent.name}"
     names = ["responses.csv", "irradiance.npz", *retinal.values(), *figures.values()]
     with staged(args.output, names) as tmp:
         with _bar(args, "tracing", " receptors") as bar:

@@ -110,7 +110,8 @@ def workdir(tmp_path_factory):
     with open(work / "eyes" / "tiny" / "eye.yaml", "a") as f:
         f.write("dorsal_rim: {count: 12}\n")
     config = {
-        "eyes": ["tiny"], "scenes": ["open", "flower"],
+        # The generated meadow for the flight and the survey, which run only in the run's scenes.
+        "eyes": ["tiny"], "scenes": ["open", "flower", "generated"],
         "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
         "spectral": {"start_nm": 300, "end_nm": 700, "step_nm": 10},
         "trace": {"samples_per_receptor": 16, "depth": 2, "seed": 3},

@@ -106,7 +106,8 @@ def bee_curves(wl):
 
 def default_config():
     cfg = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-    cfg.update(eyes=["tiny"], scenes=["open"], eyes_dir=str(DATA / "eyes"), scenes_dir=str(DATA / "scenes"),
+    cfg.update(eyes=["tiny"], scenes=["open", "generated"], eyes_dir=str(DATA / "eyes"),
+               scenes_dir=str(DATA / "scenes"),
                flights={"dive": {"scene": "generated", "path": "flights/approach.csv", "eyes": ["tiny"]}},
                polarisation={"eyes": [], "scenes": []}, comparison={"eyes": []}, detection={"eyes": [], "scenes": []})
     return cfg
@@ -347,6 +348,34 @@ def test_a_scene_material_with_a_bad_constant_reflectance_is_refused(tmp_path, g
     assert_names(e, scene_file, "materials.leaf.reflectance")
 
 
+@pytest.mark.parametrize("spec, field, words", [
+    ("my.csv", "materials.leaf.reflectance", "is not a spectrum: a number, or a mapping of one of constant, csv"),
+    ({"csv": {"file": "petals.csv"}}, "materials.leaf.reflectance.csv.column", "required"),
+    ({"cvs": {"file": "petals.csv", "column": "blue"}}, "materials.leaf.reflectance.cvs", "did you mean 'csv'"),
+    ({"ground": "lome"}, "materials.leaf.reflectance.ground", "is not one of"),
+    ({"fred": {"data_id": 1189}, "constant": 0.5}, "materials.leaf.reflectance", "is not a spectrum"),
+], ids=["a_file_name", "no_column", "misspelt_form", "unknown_ground", "two_forms"])
+def test_a_spectrum_not_of_the_schemas_forms_is_named_with_the_forms(tmp_path, grid, spec, field, words):
+    """The scene schema documents every spectrum form and checks a material's against them."""
+    scene = open_scene()
+    scene["materials"]["leaf"]["reflectance"] = spec
+    scene_file = write_scene(tmp_path / "scene.yaml", scene)
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert words in assert_names(e, scene_file, field)
+
+
+def test_a_material_with_a_coating_and_a_gloss_or_an_unknown_property_is_named(tmp_path, grid):
+    for extra, field in [({"coating": {"roughness": 0.1}, "gloss": {"specular": 0.1}}, "materials.leaf"),
+                         ({"shine": 1}, "materials.leaf.shine")]:
+        scene = open_scene()
+        scene["materials"]["leaf"].update(extra)
+        scene_file = write_scene(tmp_path / "scene.yaml", scene)
+        with pytest.raises(InputError) as e:
+            load_scene(scene_file, grid)
+        assert_names(e, scene_file, field)
+
+
 def _curves(**edits):
     def make(wl):
         c = bee_curves(wl)
@@ -416,7 +445,7 @@ def test_an_unknown_scene_in_the_config_is_named(tmp_path):
 
 @pytest.mark.parametrize("change, field", [
     (lambda f: f.update(path="flights/nowhere.csv"), "flights.dive.path"),
-    (lambda f: f.update(eyes=["tiny", "wroker"]), "flights.dive.eyes.1"),
+    (lambda f: f.update(eyes=["tiny", "tinny"]), "flights.dive.eyes.1"),
     (lambda f: f.update(scene="meadw"), "flights.dive.scene"),
 ])
 def test_a_flight_with_a_missing_file_eye_or_scene_is_named(tmp_path, change, field):
@@ -428,7 +457,7 @@ def test_a_flight_with_a_missing_file_eye_or_scene_is_named(tmp_path, change, fi
 
 
 @pytest.mark.parametrize("change, field, says", [
-    (lambda p: p.update(eyes=["tiny"]), "polarisation.eyes.0", "no dorsal rim area"),
+    (lambda p: p.update(eyes=["tiny"], scenes=["open"]), "polarisation.eyes.0", "no dorsal rim area"),
     (lambda p: p.update(scenes=["flwer"]), "polarisation.scenes.0", "no scene 'flwer'"),
 ])
 def test_polarisation_of_an_eye_without_a_dorsal_rim_or_of_a_missing_scene_is_named(tmp_path, change, field, says):
@@ -861,3 +890,16 @@ def test_an_eye_below_the_ground_still_renders_but_is_warned_of(tmp_path, caplog
     if warned:
         # Below a plane, every receptor that meets it meets its underside.
         assert said[0].startswith("100% of the receptors whose axis meets a surface meet its back face")
+
+
+def test_an_extra_naming_another_folders_scene_is_not_run_but_a_misspelt_one_stops_the_run(tmp_path):
+    """The default flight's meadow in a run of other scenes is another folder's: not an error, not run. A
+    name close to a scene that is there is a misspelling, named with what it is close to."""
+    cfg = default_config()
+    cfg["flights"]["dive"]["scene"] = "forest"
+    assert validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")["flights"] == {}
+    cfg = default_config()
+    cfg["flights"]["dive"]["scene"] = "generatd"
+    with pytest.raises(InputError) as e:
+        validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
+    assert "did you mean 'generated'" in assert_names(e, tmp_path / "config.yaml", "flights.dive.scene")

@@ -48,7 +48,7 @@ def viewers(workdir):
 @needs_chromium
 def test_every_viewer_of_a_run_is_drawn_offline_with_its_receptors(workdir, tmp_path):
     pages = viewers(workdir)
-    assert {(p.parts[-3], p.parts[-2]) for p in pages} == {("tiny", "open"), ("tiny", "flower")}
+    assert {(p.parts[-3], p.parts[-2]) for p in pages} == {("tiny", "open"), ("tiny", "flower"), ("tiny", "generated")}
     receptors = read_receptors(workdir / "results" / "eyes" / "tiny" / "receptors.csv")
     for page in pages:
         drawn, image, _ = check_drawn_offline(page, tmp_path)

@@ -2,6 +2,7 @@
 
 import json
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -295,3 +296,41 @@ def test_editing_a_flight_or_a_readme_reruns_no_trace_of_its_scene(workdir):
     finally:
         readme.unlink()
         flight.write_bytes(text)
+
+
+def test_a_run_of_one_eye_in_one_scene_runs_nothing_else(tmp_path):
+    """The extras (flights, polarisation, the detection survey) follow the run's eyes and scenes, and a
+    flight set to null is off: the default config asked for the drone in the meadow plans no job of
+    another eye or scene."""
+    def planned(*settings):
+        dry = subprocess.run([SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(tmp_path),
+                              "--configfile", str(ROOT / "config" / "config.yaml"), "--dry-run", "--config",
+                              f"eyes_dir={ROOT / 'eyes'}", f"scenes_dir={ROOT / 'scenes'}", *settings],
+                             capture_output=True, text=True)
+        assert dry.returncode == 0, dry.stderr[-2000:]
+        return [line.split(":", 1)[1] for line in dry.stdout.splitlines() if line.strip().startswith("output:")]
+
+    outputs = planned("eyes=[drone]", "scenes=[meadow]")
+    assert any("results/drone/meadow/responses.csv" in line for line in outputs)
+    assert any("results/detection/meadow/drone/detection.csv" in line for line in outputs)
+    others = ("worker", "queen", "bombus", "/sky/", "/patches/", "flights/", "polarisation/")
+    assert not [line for line in outputs if any(other in line for other in others)]
+    assert not any("flights/" in line for line in planned("flights={approach: null}"))
+
+
+def test_render_with_the_runs_settings_writes_the_workflows_files(workdir, tmp_path):
+    """The CLI's render is the workflow's stages (README, "Command-line tool"): with the run's settings its
+    responses, retinal images and colour-space figures are the workflow's, byte for byte, titles included;
+    its visual field differs only in having no human view beside it."""
+    out = tmp_path / "render"
+    result = subprocess.run(
+        [sys.executable, "-m", "beeoptics.cli", "render",
+         str(workdir / "results/eyes/tiny/receptors.csv"), str(workdir / "scenes/flower/scene.yaml"),
+         "--eye", str(workdir / "eyes/tiny/eye.yaml"), "-o", str(out), "--samples", "16", "--depth", "2",
+         "--seed", "3", "--step-nm", "10", "--width-px", "64", "--field-width-px", "180", "--figures", "--quiet"],
+        capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr[-2000:]
+    ran = workdir / "results/tiny/flower"
+    for name in ("responses.csv", "voronoi_map3.png", "density_map3.png", "channel_uv.png", "catches.exr",
+                 "hexagon.png", "triangle.png"):
+        assert (out / name).read_bytes() == (ran / name).read_bytes(), name

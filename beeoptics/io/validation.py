@@ -67,6 +67,9 @@ def _field_and_message(error):
         )
     elif error.validator == "required":
         path.append(next(k for k in error.validator_value if k not in error.instance))
+    elif error.validator in ("type", "minProperties", "maxProperties") and "title" in error.schema:
+        # A value of the wrong kind or shape is told what the field takes (the schema's title names it).
+        message = f"{error.instance!r} is not {error.schema['title']}"
     return ".".join(path), message
 
 
@@ -133,6 +136,12 @@ def validate_config(config, schema_path, source="config", folders=True, override
     typo stops the run before any job starts. Relative folders are taken
     from the working directory, as the rules take them.
 
+    The extras, flights, polarisation and detection, are then narrowed to
+    the run's ``eyes`` and ``scenes`` (:func:`within_run`), and what those
+    that run need is checked. In an extra, a name that no folder holds is
+    taken for another folder's (the default flight's meadow, in a run of
+    your own scenes) unless it is close to one that is (a misspelling).
+
     Snakemake reads the values of a nested ``--config`` mapping as text
     (``--config trace='{parts: 16}'`` gives ``"16"``): text where the schema
     wants a number is read as one first.
@@ -156,6 +165,9 @@ def validate_config(config, schema_path, source="config", folders=True, override
     try:
         _check(config, validator, source)
         if folders:
+            _check_names(config, source)
+        within_run(config)
+        if folders:
             _check_folders(config, source)
     except InputError as e:
         if overrides and _sets(overrides, e.field):
@@ -165,14 +177,37 @@ def validate_config(config, schema_path, source="config", folders=True, override
     return config
 
 
+def within_run(config):
+    """Narrow the extras to the run's eyes and scenes, in place.
+
+    A user asking for the drone in the meadow gets the drone in the meadow:
+    a flight runs for those of its eyes that are among ``eyes``, and only if
+    its scene is among ``scenes`` (and not at all if set to null); polarisation and the detection survey run
+    for their eyes and scenes that are in the run (both or neither). Sweeps
+    and the comparison name what they run on their own.
+    """
+    eyes, scenes = config["eyes"], config["scenes"]
+    config["flights"] = {name: {**flight, "eyes": [e for e in flight["eyes"] if e in eyes]}
+                         for name, flight in config["flights"].items()
+                         if flight is not None and flight["scene"] in scenes and set(flight["eyes"]) & set(eyes)}
+    for key in ("polarisation", "detection"):
+        section = config[key]
+        kept = [e for e in section["eyes"] if e in eyes], [s for s in section["scenes"] if s in scenes]
+        section["eyes"], section["scenes"] = kept if all(kept) else ([], [])
+    return config
+
+
 def _numbers_from_text(data, schema):
-    """Read text as a number, in place, wherever the schema wants a number or an integer."""
+    """Read text as a number, in place, wherever the schema wants a number or an integer, and "null" as
+    null where it allows null."""
     if isinstance(data, dict):
         for key, value in data.items():
             sub = schema.get("properties", {}).get(key) or schema.get("additionalProperties")
             if isinstance(sub, dict):
                 if isinstance(value, str) and sub.get("type") in ("integer", "number"):
                     data[key] = _number(value, sub["type"])
+                elif value == "null" and "null" in sub.get("type", ()):
+                    data[key] = None
                 else:
                     _numbers_from_text(value, sub)
     elif isinstance(data, list) and isinstance(schema.get("items"), dict):
@@ -203,15 +238,20 @@ def _sets(overrides, field):
     return True
 
 
-def _check_folders(config, source):
-    """Every eye class and scene named has its folder, and a named background is a material of each scene."""
+#: The config's sections that run only for the run's eyes and scenes (:func:`within_run`).
+EXTRAS = ("flights.", "polarisation.", "detection.")
+
+
+def _check_names(config, source):
+    """Every eye class and scene named has its folder: in an extra, a name no folder holds is another
+    folder's (not in this run) unless it is close to one that is (a misspelling)."""
     for key, (dir_key, filename) in CONFIG_FOLDERS.items():
         root = Path(config[dir_key])
         named = [(f"{key}.{i}", n) for i, n in enumerate(config[key])]
         named += [(f"sweeps.{s}.{key}.{i}", n) for s, sweep in config.get("sweeps", {}).items()
                   for i, n in enumerate(sweep.get(key, []))]
         named += [(f"flights.{f}.eyes.{i}", n) if key == "eyes" else (f"flights.{f}.scene", n)
-                  for f, flight in config.get("flights", {}).items()
+                  for f, flight in config.get("flights", {}).items() if flight is not None
                   for i, n in enumerate(flight["eyes"] if key == "eyes" else [flight["scene"]])]
         named += [(f"polarisation.{key}.{i}", n) for i, n in enumerate(config["polarisation"][key])]
         named += [(f"comparison.eyes.{i}", n) for i, n in enumerate(config["comparison"]["eyes"] if key == "eyes"
@@ -220,11 +260,19 @@ def _check_folders(config, source):
         for field, name in named:
             if not (root / name / filename).is_file():
                 found = sorted(p.parent.name for p in root.glob(f"*/{filename}"))
+                close = difflib.get_close_matches(name, found, n=1)
+                if field.startswith(EXTRAS) and not close:
+                    continue
                 raise InputError(
                     source, field,
                     f"no {key[:-1]} {name!r}: {root / name / filename} does not exist "
-                    f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})",
+                    f"({dir_key} {str(root)!r} holds {', '.join(found) or 'none'})"
+                    + (f"; did you mean {close[0]!r}?" if close else ""),
                 )
+
+
+def _check_folders(config, source):
+    """What the run's extras need is there, and a named background is a material of each scene."""
     for i, name in enumerate(config["polarisation"]["eyes"]):
         eye = load_yaml(Path(config["eyes_dir"]) / name / "eye.yaml")
         if not isinstance(eye, dict) or "dorsal_rim" not in eye:

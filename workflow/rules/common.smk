@@ -14,11 +14,19 @@ EYES_DIR = Path(config["eyes_dir"])
 SCENES_DIR = Path(config["scenes_dir"])
 
 
+#: The pond's eye and scene (`snakemake pond`, workflow/rules/polarisation.smk), run on request only, where
+#: the eyes and scenes folders hold them.
+POND = {"eye": "worker", "scene": "pond"}
+POND_THERE = (EYES_DIR / POND["eye"] / "eye.yaml").is_file() and (SCENES_DIR / POND["scene"] / "scene.yaml").is_file()
+
+
 def named_eyes():
-    """Every eye class the config names: in the run, its sweeps, flights and polarisation."""
+    """Every eye class the config names (in the run, its sweeps, flights, polarisation and detection), and the
+    pond's."""
     return list(dict.fromkeys([*config["eyes"], *(e for s in config["sweeps"].values() for e in s["eyes"]),
                                *(e for f in config["flights"].values() for e in f["eyes"]),
-                               *config["polarisation"]["eyes"], *config["detection"]["eyes"]]))
+                               *config["polarisation"]["eyes"], *config["detection"]["eyes"],
+                               *([POND["eye"]] if POND_THERE else [])]))
 
 
 # Each eye's receptor set (its eye.yaml's receptors), which decides the columns and images of its outputs.

@@ -55,7 +55,10 @@ rule compass:
 
 # The pond (scenes/pond): water's horizontally polarised reflection as the worker sees it, with its
 # images and viewer. Not in the default run, for its time: `snakemake pond`.
-rule pond:
-    input:
-        expand("results/worker/pond/polarisation/{name}", name=["polarisation.csv", "field.png", "retina.png"]),
-        expand("results/worker/pond/{name}", name=["visual_field.png", "viewer.html"]),
+if POND_THERE:
+
+    rule pond:
+        input:
+            expand("results/{eye}/{scene}/polarisation/{name}", **POND,
+                   name=["polarisation.csv", "field.png", "retina.png"]),
+            expand("results/{eye}/{scene}/{name}", **POND, name=["visual_field.png", "viewer.html"]),

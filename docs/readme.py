@@ -1,0 +1,206 @@
+"""Write the README's passages that come from a run's files, from those files.
+
+Each such passage lies between ``<!-- from the run: NAME -->`` and ``<!-- end NAME -->`` in the
+README, and :data:`PASSAGES` says which files make it: the worker's eye against Collins's and the
+published values (``worker_eye``), every shipped eye (``eyes``, after ``snakemake comparison``),
+and the compass caption (``compass``). A passage whose files are
+not in the results folder is left as it is, and said so. Run after ``make workflow`` (and
+``snakemake comparison``)::
+
+    .venv/bin/python docs/readme.py            # rewrite README.md
+    .venv/bin/python docs/readme.py --check    # exit 1 if README.md is not what the run gives
+
+The daylight and speed tables come from benchmarks (benchmarks/daylight.py, trace.py), not from a
+run's files, and are written by hand from their printed JSON.
+"""
+
+import argparse
+import csv
+import json
+import math
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _quality(results, eye):
+    return json.loads((results / "eyes" / eye / "quality.json").read_text())
+
+
+def _median(values):
+    values = sorted(values)
+    n = len(values)
+    return (values[(n - 1) // 2] + values[n // 2]) / 2
+
+
+def _receptor_medians(results, eye, column):
+    with open(results / "eyes" / eye / "receptors.csv", newline="") as f:
+        return _median([float(row[column]) for row in csv.DictReader(f) if row[column]])
+
+
+def _commit():
+    done = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+    return done.stdout.strip() or "this checkout"
+
+
+def worker_eye(results, eyes_dir):
+    """The worker's right eye: Collins's, ours and the published values, from both eyes' quality.json."""
+    now, before = _quality(results, "worker"), _quality(results, "worker_collins")
+
+    def outline(q):
+        return f"{q['size']['eye_length_mm']:.2f} × {q['size']['eye_width_mm']:.2f} mm"
+
+    def area(q):
+        size = q["size"]
+        return f"{size['corneal_area_mm2']:.2f} mm² = {q['facets_per_eye']:,} × {size['mean_facet_area_um2']:.0f} µm²"
+
+    def covered(q):
+        c = q["field"]["coverage"]
+        return f"{100 * c['covered']:.0f} % ({100 * c['outside']:.2f} % of ours beyond it)"
+
+    def vertical(q, who="ours"):
+        v = q["field"]["anisotropy"]["delta_phi_v_deg"]
+        return f"{v['equator'][who]:.2f}° → {v['elevation_45_75'][who]:.2f}°"
+
+    def ratios(q):
+        a = q["field"]["anisotropy"]
+        h, v = a["delta_phi_h_deg"], a["delta_phi_v_deg"]
+        return f"{h['median_ratio']:.2f} ({h['correlation']:.2f}) / {v['median_ratio']:.2f} ({v['correlation']:.2f})"
+
+    def ratio(q, who="ours"):
+        return f"{q['field']['anisotropy']['horizontal_over_vertical'][who]:.2f}"
+
+    def rows(q):
+        return f"rows {abs(q['field']['anisotropy']['rows_from_horizontal_deg']):.1f}° from horizontal"
+
+    def delta_rho(eye):
+        with open(results / "eyes" / eye / "receptors.csv", newline="") as f:
+            values = [float(r["delta_rho_deg"]) for r in csv.DictReader(f)]
+        low, high = min(values), max(values)
+        return f"{low:.2f}° everywhere" if math.isclose(low, high) else f"{low:.2f}–{high:.2f}°"
+
+    def rim(q):
+        r = q.get("dorsal_rim")
+        return f"{r['facets']} facets, looking up at {r['elevation_deg'][0]:.0f}–{r['elevation_deg'][2]:.0f}°" \
+            if r else "–"
+
+    table = [
+        ("facets per eye", lambda q: f"{q['facets_per_eye']:,}", "5,432 (Seidl & Kaiser 1981)"),
+        ("eye outline, length × width (projected)", outline,
+         "2.64 mm long (Ribi et al. 1989); vertical about twice horizontal (Jander & Jander 2002)"),
+        ("corneal area = facets × mean facet area", area, "not found"),
+        ("share of the measured field covered (Stürzl et al. 2010 border)", covered, "100 %"),
+        ("vertical Δφ, equator → \\|elevation\\| 45–75°", vertical,
+         f"{vertical(now, 'model')} (Seidl 1982 as Stürzl et al. model it, at our axes)"),
+        ("median ratio of our Δφ to the model's, horizontal / vertical (correlation)", ratios, "1"),
+        ("ratio of horizontal to vertical Δφ", ratio, f"{ratio(now, 'model')} (at our axes)"),
+        ("lattice orientation", rows, "vertical columns of ommatidia"),
+        ("facet diameter, maximum", lambda q: f"{q['size']['facet_diameter_max_um']:.1f} µm",
+         "about 20 µm (Greiner et al. 2004; Somanathan et al. 2009)"),
+        ("acceptance angle Δρ", None,
+         "1.9° fronto-ventrally (Rigosi et al. 2017), 2.57° centrally (Eheim & Wehner 1972)"),
+        ("dorsal rim area", rim, "at least 60 ommatidia, skyward (Schinz 1975)"),
+    ]
+    lines = [f"| worker, right eye | before (Collins's eye) | now (`quality.json` of {_commit()}'s run) | published |",
+             "|---|---|---|---|"]
+    for label, value, published in table:
+        cells = (delta_rho("worker_collins"), delta_rho("worker")) if value is None else (value(before), value(now))
+        lines.append(f"| {label} | {cells[0]} | {cells[1]} | {published} |")
+    return "\n".join(lines)
+
+
+def eyes(results, eyes_dir):
+    """Every compared eye's facets, corneal area, Δφ, Δρ and fields, the published values in brackets where they
+    differ."""
+    with open(results / "comparison" / "acuity.csv", newline="") as f:
+        names = [row["eye"] for row in csv.DictReader(f)]
+    lines = ["| eye | facets an eye (published) | corneal area, mm² (published) | Δφ median, ° | Δρ median, ° "
+             "| one eye's field, sr (published) | binocular, sr |", "|---|---|---|---|---|---|---|"]
+    for name in names:
+        q = _quality(results, name)
+        described = yaml.safe_load((eyes_dir / name / "eye.yaml").read_text())
+        # A micro-CT cornea's field is its normals' (README, "Other species").
+        field = q["fields"]["normals" if "cornea" in described else "axes"]
+        published = q.get("published", {})
+
+        def given(key, value, scale=1.0):
+            """The value, and in brackets the published one where it differs."""
+            spec = published.get(key)
+            ours = f"{value:.2f}"
+            return f"{ours} ({spec['value'] * scale:.1f})" if spec and f"{spec['value'] * scale:.2f}" != ours else ours
+
+        facets = f"{q['facets_per_eye']:,}"
+        if q.get("facets_published") and q["facets_published"] != q["facets_per_eye"]:
+            facets += f" ({q['facets_published']:,})"
+        area = q["size"]["corneal_area_mm2"]
+        lines.append(" | ".join([
+            f"| {name}", facets, given("corneal_area_mm2", area),
+            f"{q['optics']['delta_phi_deg']['p50']:.2f}", f"{_receptor_medians(results, name, 'delta_rho_deg'):.2f}",
+            given("field_fraction", field["right_sr"], 4 * math.pi),
+            f"{field['binocular_sr']:.2f} |"]))
+    return "\n".join(lines)
+
+
+def compass(results, eyes_dir):
+    """The compass figure's caption, from the meadow's compass.json."""
+    s = json.loads((results / "worker" / "meadow" / "polarisation" / "compass.json").read_text())
+    low = min((k for k in s if k.startswith("clear sky, in the scene at")),
+              key=lambda k: float(re.search(r"at ([\d.]+) cm", k).group(1)))
+    cm = re.search(r"at ([\d.]+) cm", low).group(1)
+
+    def errs(key):
+        return f"{s[key]['median_abs_error_deg']:.2f}° (median, {s[key]['max_abs_error_deg']:.2f}° at most)"
+
+    return (f"*`results/worker/meadow/polarisation/compass.png`: the compass's estimate of the solar azimuth over a "
+            f"full\nturn, from {_commit()}'s default run. Under Rayleigh's sky it errs by {errs('Rayleigh sky, open')}"
+            f";\nunder the clear sky, whose neutral points Rayleigh's map lacks, by {errs('clear sky, open')}; "
+            f"lowered to\n{cm} cm among the grass, where the plants hide {100 * s[low]['sky_hidden']:.0f} % of the "
+            f"dorsal rim's view, by\n{errs(low)}. Turbidity only scales the sky's degree here, which a read-out free "
+            "of\nreceptor noise does not feel.*")
+
+
+#: Passage name → (what writes it, the files it reads, relative to the results folder or the repository).
+PASSAGES = {
+    "worker_eye": (worker_eye, ["eyes/worker/quality.json", "eyes/worker_collins/quality.json"]),
+    "eyes": (eyes, ["comparison/acuity.csv"]),
+    "compass": (compass, ["worker/meadow/polarisation/compass.json"]),
+}
+BLOCK = re.compile(r"(<!-- from the run: (\w+) -->\n)(.*?)(\n<!-- end \2 -->)", re.S)
+
+
+def rewrite(text, results, eyes_dir=ROOT / "eyes", log=print):
+    """``text`` with every passage the results folder has the files for written afresh (the eyes' descriptions
+    in ``eyes_dir``)."""
+    def passage(m):
+        name = m.group(2)
+        write, needs = PASSAGES[name]
+        missing = [n for n in needs if not (results / n).exists()]
+        if missing:
+            log(f"{name}: left as it is ({results / missing[0]} is missing)")
+            return m.group(0)
+        return m.group(1) + write(results, eyes_dir) + m.group(4)
+    return BLOCK.sub(passage, text)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--results", type=Path, default=ROOT / "results", help="the run's results folder")
+    parser.add_argument("--eyes", type=Path, default=ROOT / "eyes", help="the run's eyes folder")
+    parser.add_argument("--readme", type=Path, default=ROOT / "README.md")
+    parser.add_argument("--check", action="store_true", help="change nothing; exit 1 if the README differs")
+    args = parser.parse_args(argv)
+    text = args.readme.read_text()
+    new = rewrite(text, args.results, args.eyes, log=lambda line: print(line, file=sys.stderr))
+    if args.check:
+        return int(new != text)
+    args.readme.write_text(new)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,151 @@
+"""What the README says, the tool does: every command of its shell blocks runs, as written, and fails
+this test when it errors.
+
+The commands run in a copy of the repository's eyes, scenes, config and workflow (their outputs go
+there, not into the repository), in the order the README gives them, with these adaptations and no
+others (:func:`as_run`):
+
+- Snakemake plans (``--dry-run``) rather than runs: the default workflow takes minutes. Its
+  ``--report`` needs a finished run, so it is made of the test workflow's (the ``workdir`` fixture).
+- ``make`` prints what it would do (``-n``): ``make test`` is what runs this suite.
+- The CLI traces at 4 samples (``--samples``), the README's own sample counts being for results.
+- Placeholders in angle brackets (a cluster's account) are given a value.
+- Files the README says are the user's own are supplied: the micro-CT eye and Buchner's map from
+  ``../shared/data``, a meadow file copied from the shipped meadow's; the meadow's mesh, which
+  ``make workflow`` would have generated before these commands, is generated first.
+- The conda route is not run (this machine has no conda); its pip line must install what the
+  Makefile installs.
+"""
+
+import importlib.util
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT, SHARED, run
+
+README = ROOT / "README.md"
+BLOCK = re.compile(r"```sh\n(.*?)```", re.S)
+#: The repository's files the commands read, copied for them.
+COPIED = ("eyes", "scenes", "config", "workflow", "Snakefile", "Makefile", "pyproject.toml", "requirements.lock",
+          "environment.yml")
+#: Files the README's commands take to be the user's own, and where the test finds them.
+USERS_OWN = {
+    "BT_77970-real.eye": SHARED / "eyes_ct" / "BT_77970-real.eye",
+    "receptor_directions_buchner71.csv": SHARED / "drosophila" / "receptor_directions_buchner71.csv",
+    "my_meadow.yaml": ROOT / "scenes" / "meadow" / "meadow.yaml",
+}
+CONDA_ROUTE = ("conda ", "pip ", "snakemake ")
+
+
+def commands(text):
+    """The shell commands of the README's ``sh`` blocks, in order: continuation lines joined, comments
+    dropped."""
+    for block in BLOCK.findall(text):
+        for line in re.sub(r"\\\n\s*", " ", block).splitlines():
+            command = re.sub(r"\s+#.*$", "", line).strip()
+            if command and not command.startswith("#"):
+                yield command
+
+
+def as_run(command):
+    """The command as the test runs it (a list of arguments), or None for the conda route's."""
+    if command.startswith(CONDA_ROUTE):
+        return None
+    command = re.sub(r"<(\w+)>", r"\1", command)
+    args = shlex.split(command)
+    if args[0] == "make":
+        return ["make", "-n", *args[1:]]
+    if args[0] == ".venv/bin/snakemake":
+        return args if "--report" in args else [*args, "--dry-run"]
+    if "--samples" in args:
+        args[args.index("--samples") + 1] = "4"
+    return args
+
+
+def test_the_readme_names_its_commands():
+    """The parser finds the README's commands (a test that ran none would pass on anything)."""
+    found = list(commands(README.read_text()))
+    assert any(c.startswith(".venv/bin/beeoptics render") for c in found)
+    assert any(c.startswith(".venv/bin/snakemake --workflow-profile") and "--config" in c for c in found)
+    assert "snakemake --cores all" in found
+
+
+def test_the_conda_route_installs_what_the_makefile_installs():
+    conda = [c for c in commands(README.read_text()) if as_run(c) is None]
+    makefile = (ROOT / "Makefile").read_text()
+    pins = set(re.findall(r"\b\w+==[\w.]+", " ".join(conda)))
+    assert pins and all(pin in makefile for pin in pins)
+    assert "pip install --no-deps -e ." in " ".join(conda)
+
+
+@pytest.mark.skipif(not shutil.which("make"), reason="make is not installed")
+def test_every_readme_command_runs_as_written(tmp_path, workdir, shared_data):
+    for name in COPIED:
+        source = ROOT / name
+        if source.is_dir():
+            shutil.copytree(source, tmp_path / name,
+                            ignore=shutil.ignore_patterns("meadow.ply", "meadow_flowers.csv", "__pycache__"))
+        else:
+            shutil.copy(source, tmp_path / name)
+    (tmp_path / ".venv").symlink_to(ROOT / ".venv")
+    for name, source in USERS_OWN.items():
+        shutil.copy(source, tmp_path / name)
+    meadow = subprocess.run([sys.executable, "-m", "beeoptics.cli", "meadow", "scenes/meadow/meadow.yaml", "-o",
+                             "scenes/meadow/meadow.ply"], cwd=tmp_path, capture_output=True, text=True)
+    assert meadow.returncode == 0, meadow.stderr[-2000:]
+    ran = 0
+    for command in commands(README.read_text()):
+        args = as_run(command)
+        if args is None:
+            continue
+        if "--report" in args:
+            result = run(workdir, *args[1:])
+            report = workdir / args[args.index("--report") + 1]
+            assert report.stat().st_size > 0
+        else:
+            result = subprocess.run(args, cwd=tmp_path, capture_output=True, text=True)
+        assert result.returncode == 0, f"{command}\n{result.stderr[-3000:]}"
+        ran += 1
+    print(f"{ran} README commands ran")
+
+
+def test_every_benchmark_the_readme_names_exists_and_takes_help():
+    named = set(re.findall(r"benchmarks/(\w+)\.py", README.read_text()))
+    assert named
+    for name in sorted({p.stem for p in (ROOT / "benchmarks").glob("*.py")} | named):
+        result = subprocess.run([sys.executable, str(ROOT / "benchmarks" / f"{name}.py"), "--help"],
+                                capture_output=True, text=True)
+        assert result.returncode == 0 and "usage" in result.stdout, f"benchmarks/{name}.py --help\n{result.stderr}"
+
+
+def _readme_script():
+    spec = importlib.util.spec_from_file_location("readme", ROOT / "docs" / "readme.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_passage_the_readme_takes_from_a_run_has_its_writer():
+    script = _readme_script()
+    found = [m.group(2) for m in script.BLOCK.finditer(README.read_text())]
+    assert sorted(found) == sorted(script.PASSAGES)
+
+
+def test_the_readmes_passages_are_written_from_a_runs_files(workdir):
+    """docs/readme.py writes the eye table from the run's comparison (the test run compares the tiny eye and the
+    fly) and leaves a passage whose files the run lacks as it is, saying so."""
+    assert run(workdir, "comparison").returncode == 0
+    script, said = _readme_script(), []
+    text = ("<!-- from the run: eyes -->\nold\n<!-- end eyes -->\n"
+            "<!-- from the run: compass -->\nold\n<!-- end compass -->")
+    new = script.rewrite(text, workdir / "results", workdir / "eyes", log=said.append)
+    rows = [line for line in new.splitlines() if line.startswith("| ")]
+    assert [row.split(" | ")[0] for row in rows[1:]] == ["| tiny", "| drosophila_melanogaster"]
+    assert "699 (800)" in rows[-1]
+    assert new.endswith("<!-- from the run: compass -->\nold\n<!-- end compass -->")
+    assert len(said) == 1 and said[0].startswith("compass: left as it is")
