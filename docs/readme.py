@@ -49,7 +49,8 @@ def _commit():
 
 
 def worker_eye(results, eyes_dir):
-    """The worker's right eye: Collins's, ours and the published values, from both eyes' quality.json."""
+    """The worker's right eye: Collins's (as this code builds it from his mesh), ours and the published values, from
+    both eyes' quality.json."""
     now, before = _quality(results, "worker"), _quality(results, "worker_collins")
 
     def outline(q):
@@ -106,7 +107,8 @@ def worker_eye(results, eyes_dir):
          "1.9° fronto-ventrally (Rigosi et al. 2017), 2.57° centrally (Eheim & Wehner 1972)"),
         ("dorsal rim area", rim, "at least 60 ommatidia, skyward (Schinz 1975)"),
     ]
-    lines = [f"| worker, right eye | before (Collins's eye) | now (`quality.json` of {_commit()}'s run) | published |",
+    lines = [f"| worker, right eye (`quality.json` of {_commit()}'s run) | Collins's eye (`worker_collins`) | ours "
+             "(`worker`) | published |",
              "|---|---|---|---|"]
     for label, value, published in table:
         cells = (delta_rho("worker_collins"), delta_rho("worker")) if value is None else (value(before), value(now))

@@ -56,3 +56,14 @@ def test_the_kernel_mean_keeps_a_linear_trend_and_removes_noise():
     # over some 3·π·3² facets.
     np.testing.assert_allclose(kernel_mean(points, trend, 3.0)[inner], trend[inner], atol=1e-9)
     assert np.std((smooth - trend)[inner]) < 0.25
+
+
+def test_a_particle_every_triangle_of_which_bridges_the_rim_is_on_the_rim_and_weighs_nothing():
+    """A particle far from the rest keeps no Delaunay edge (each is longer than allowed): it is on the rim
+    (not counted among the interior facets), and its Δφ, NaN, leaves the kernel mean of the others finite."""
+    uv = np.array([[0, 0], [1, 0], [0.5, 0.9], [1.5, 0.9], [0.5, 5.0]], float)
+    points = np.column_stack([uv, np.zeros(len(uv))])
+    edges, boundary = neighbour_edges(uv, points, np.full(len(uv), 1.5))
+    assert neighbour_counts(edges, len(uv))[4] == 0 and boundary[4]
+    smooth = kernel_mean(points, np.array([1.0, 1.0, 1.0, 1.0, np.nan]), 10.0)
+    assert np.allclose(smooth[:4], 1.0) and np.isclose(smooth[4], 1.0)

@@ -30,9 +30,10 @@ def acuity(table, rayleigh_nm, width_px=720):
     dphi, drho, d_um = table.delta_phi_deg, table.delta_rho_deg, table.facet_diameter_um
     row = {"receptors": len(dphi)}
     for label, values in (("delta_phi_deg", dphi), ("delta_rho_deg", drho)):
-        row.update({f"{label}_p{p}": np.percentile(values, p) for p in (5, 50, 95)})
-    row["f_max_cpd_median"] = nyquist_limit_cpd(np.median(dphi))
-    row["f_max_cpd_p5"] = nyquist_limit_cpd(np.percentile(dphi, 5))
+        # Over the receptors that have it: a rim facet left without neighbours has no Δφ (NaN).
+        row.update({f"{label}_p{p}": np.nanpercentile(values, p) for p in (5, 50, 95)})
+    row["f_max_cpd_median"] = nyquist_limit_cpd(np.nanmedian(dphi))
+    row["f_max_cpd_p5"] = nyquist_limit_cpd(np.nanpercentile(dphi, 5))
     row["facet_diameter_um_median"] = np.median(d_um)
     for receptor, lam in rayleigh_nm.items():
         for label, d in (("median", np.median(d_um)), ("largest", d_um.max())):

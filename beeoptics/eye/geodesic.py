@@ -44,11 +44,18 @@ def heat_distances(vertices, faces, sources):
     ndarray, shape (len(sources), n)
         Distances, in the units of ``vertices``.
     """
-    data = igl.HeatGeodesicsData()
-    igl.heat_geodesics_precompute(vertices, faces, data)
-    return np.stack(
-        [igl.heat_geodesics_solve(data, np.array([s], dtype=np.int64)) for s in sources]
-    )
+    # libigl's precomputation (the factorisations of its heat and Poisson steps) fails on some meshes at one
+    # scale and not at another (a micro-CT bumblebee's remeshed cornea, in mm, on one processor); distances scale
+    # with the mesh, so such a mesh is measured in micrometres instead.
+    for scale in (1.0, 1e3):
+        data = igl.HeatGeodesicsData()
+        try:
+            igl.heat_geodesics_precompute(np.asarray(vertices, float) * scale, faces, data)
+        except RuntimeError:
+            if scale != 1.0:
+                raise
+            continue
+        return np.stack([igl.heat_geodesics_solve(data, np.array([s], dtype=np.int64)) for s in sources]) / scale
 
 
 def pair_distances(vertices, faces, points, point_faces, pairs, margin=None, widen=2):

@@ -144,7 +144,8 @@ def neighbour_edges(uv, points, max_length):
     edges : ndarray, shape (m, 2)
         Unique, with ``edges[:, 0] < edges[:, 1]``.
     boundary : ndarray of bool, shape (n,)
-        Particles on the rim of the triangulation.
+        Particles on the rim of the triangulation, and those left without
+        a neighbour (their Δφ is NaN).
     """
     tri = Delaunay(uv).simplices
     corners = np.stack([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]], 1)
@@ -154,6 +155,8 @@ def neighbour_edges(uv, points, max_length):
     edges, uses = np.unique(tri_edges, axis=0, return_counts=True)
     boundary = np.zeros(len(points), bool)
     boundary[edges[uses == 1].ravel()] = True
+    # A particle whose every triangle bridged the rim is on the rim too, with no neighbours.
+    boundary[np.bincount(edges.ravel(), minlength=len(points)) == 0] = True
     return edges, boundary
 
 
@@ -188,9 +191,13 @@ def kernel_mean(points, values, sigma):
     pairs = tree.sparse_distance_matrix(tree, 3.0 * sigma, output_type="coo_matrix")
     weight = np.exp(-0.5 * (pairs.data / sigma) ** 2)
     n = len(points)
-    # The zero self-distances are not stored: each facet's own weight, 1, is added back.
-    sums = np.bincount(pairs.row, weight * np.asarray(values)[pairs.col], n) + values
-    return sums / (np.bincount(pairs.row, weight, n) + 1.0)
+    # Values that are NaN (a facet without neighbours has no Δφ) weigh nothing.
+    values = np.asarray(values, float)
+    known = np.isfinite(values)
+    values, weight = np.where(known, values, 0.0), weight * known[pairs.col]
+    # The zero self-distances are not stored: each facet's own weight, 1 if known, is added back.
+    sums = np.bincount(pairs.row, weight * values[pairs.col], n) + values
+    return sums / (np.bincount(pairs.row, weight, n) + known)
 
 
 def edge_angles(axes, edges):

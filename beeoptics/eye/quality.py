@@ -69,15 +69,17 @@ def optics_quality(axes_head, dphi, facet_um, points_head):
     """Δφ percentiles, field of view and size of one eye (the right one, head frame)."""
     az, el = eye_azimuth_elevation(axes_head, RIGHT)
     band = np.abs(el) <= EQUATOR_BAND_DEG
-    finest = dphi <= np.quantile(dphi, FINEST_FRACTION)
+    # A rim facet every triangle of which bridged the rim has no neighbour, and no Δφ (NaN).
+    finest = dphi <= np.nanquantile(dphi, FINEST_FRACTION)
     finest_dir = np.median(axes_head[finest], axis=0)
     f_az, f_el = eye_azimuth_elevation(finest_dir, RIGHT)
     hull = points_head[ConvexHull(points_head).vertices]
     return {
         "delta_phi_deg": {
-            "p5": float(np.percentile(dphi, 5)),
-            "p50": float(np.percentile(dphi, 50)),
-            "p95": float(np.percentile(dphi, 95)),
+            "p5": float(np.nanpercentile(dphi, 5)),
+            "p50": float(np.nanpercentile(dphi, 50)),
+            "p95": float(np.nanpercentile(dphi, 95)),
+            "facets_without_neighbours": int(np.isnan(dphi).sum()),
         },
         "finest_sampling_direction_deg": {"azimuth": float(f_az), "elevation": float(f_el)},
         "field_of_view_deg": {
@@ -292,7 +294,8 @@ def zone_contrast(axes_head, dphi, facet_um, anchor, radius_deg):
         "radius_deg": radius_deg,
         "facets_inside": int(inside.sum()),
         "facet_diameter_um": {"inside": float(np.median(facet_um[inside])), "outside": float(np.median(facet_um[~inside]))},
-        "delta_phi_deg": {"inside": float(np.median(dphi[inside])), "outside": float(np.median(dphi[~inside]))},
+        "delta_phi_deg": {"inside": float(np.nanmedian(dphi[inside])),
+                          "outside": float(np.nanmedian(dphi[~inside]))},
     }
 
 

@@ -139,7 +139,7 @@ def angular_sensitivities(delta_rho_deg, delta_phi_deg, path, eye_name=""):
     if np.ptp(list(levels.values())) == 0.0:
         levels = {"every receptor": levels["median"]}
     curves = {f"Δρ {v:.2f}° ({k})": angular_sensitivity(np.radians(theta), np.radians(v)) for k, v in levels.items()}
-    median_phi = float(np.median(delta_phi_deg))
+    median_phi = float(np.nanmedian(delta_phi_deg))
     fig = Figure(figsize=(5.2, 3.6), constrained_layout=True)
     ax = fig.subplots()
     for label, a in curves.items():
