@@ -123,7 +123,7 @@ def test_every_benchmark_the_readme_names_exists_and_takes_help():
         assert result.returncode == 0 and "usage" in result.stdout, f"benchmarks/{name}.py --help\n{result.stderr}"
 
 
-def _readme_script():
+def readme_script():
     spec = importlib.util.spec_from_file_location("readme", ROOT / "docs" / "readme.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -131,21 +131,6 @@ def _readme_script():
 
 
 def test_every_passage_the_readme_takes_from_a_run_has_its_writer():
-    script = _readme_script()
+    script = readme_script()
     found = [m.group(2) for m in script.BLOCK.finditer(README.read_text())]
     assert sorted(found) == sorted(script.PASSAGES)
-
-
-def test_the_readmes_passages_are_written_from_a_runs_files(workdir):
-    """docs/readme.py writes the eye table from the run's comparison (the test run compares the tiny eye and the
-    fly) and leaves a passage whose files the run lacks as it is, saying so."""
-    assert run(workdir, "comparison").returncode == 0
-    script, said = _readme_script(), []
-    text = ("<!-- from the run: eyes -->\nold\n<!-- end eyes -->\n"
-            "<!-- from the run: compass -->\nold\n<!-- end compass -->")
-    new = script.rewrite(text, workdir / "results", workdir / "eyes", log=said.append)
-    rows = [line for line in new.splitlines() if line.startswith("| ")]
-    assert [row.split(" | ")[0] for row in rows[1:]] == ["| tiny", "| drosophila_melanogaster"]
-    assert "699 (800)" in rows[-1]
-    assert new.endswith("<!-- from the run: compass -->\nold\n<!-- end compass -->")
-    assert len(said) == 1 and said[0].startswith("compass: left as it is")

@@ -12,6 +12,7 @@ from beeoptics.io.imagefile import read_image
 from beeoptics.pipeline.trace import gather_responses
 from beeoptics.io.table import read_table
 from conftest import ROOT, SNAKEMAKE, run
+from test_readme import readme_script
 
 def test_every_artifact_is_written(workdir):
     eye = workdir / "results" / "eyes" / "tiny"
@@ -226,6 +227,23 @@ def test_the_comparison_target_builds_and_compares_its_eyes(workdir):
     out = workdir / "results" / "comparison"
     assert read_table(out / "acuity.csv")["eye"].tolist() == ["tiny", "drosophila_melanogaster"]
     assert (out / "fields.png").stat().st_size > 0 and (out / "allometry.png").stat().st_size > 0
+
+
+def test_the_readmes_passages_are_written_from_a_runs_files(workdir):
+    """docs/readme.py writes the eye table from the run's comparison (the test run compares the tiny eye and the
+    fly) and leaves a passage whose files the run lacks as it is, saying so."""
+    # After the comparison's own test, which checks that the default run did not build the fly.
+    if not (workdir / "results" / "comparison" / "acuity.csv").exists():
+        assert run(workdir, "comparison").returncode == 0
+    script, said = readme_script(), []
+    text = ("<!-- from the run: eyes -->\nold\n<!-- end eyes -->\n"
+            "<!-- from the run: compass -->\nold\n<!-- end compass -->")
+    new = script.rewrite(text, workdir / "results", workdir / "eyes", log=said.append)
+    rows = [line for line in new.splitlines() if line.startswith("| ")]
+    assert [row.split(" | ")[0] for row in rows[1:]] == ["| tiny", "| drosophila_melanogaster"]
+    assert "699 (800)" in rows[-1]
+    assert new.endswith("<!-- from the run: compass -->\nold\n<!-- end compass -->")
+    assert len(said) == 1 and said[0].startswith("compass: left as it is")
 
 
 def test_the_survey_approaches_each_species_and_the_flight_detects_its_flower(workdir):
