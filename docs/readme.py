@@ -15,7 +15,6 @@ run's files, and are written by hand from their printed JSON.
 """
 
 import argparse
-import csv
 import json
 import math
 import re
@@ -23,7 +22,11 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import yaml
+
+from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.table import read_table
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -32,15 +35,9 @@ def _quality(results, eye):
     return json.loads((results / "eyes" / eye / "quality.json").read_text())
 
 
-def _median(values):
-    values = sorted(values)
-    n = len(values)
-    return (values[(n - 1) // 2] + values[n // 2]) / 2
-
-
-def _receptor_medians(results, eye, column):
-    with open(results / "eyes" / eye / "receptors.csv", newline="") as f:
-        return _median([float(row[column]) for row in csv.DictReader(f) if row[column]])
+def _delta_rho(results, eye):
+    """The eye's receptors' Δρ, degrees, from its receptors.csv."""
+    return read_receptors(results / "eyes" / eye / "receptors.csv").delta_rho_deg
 
 
 def _commit():
@@ -80,9 +77,8 @@ def worker_eye(results, eyes_dir):
         return f"rows {abs(q['field']['anisotropy']['rows_from_horizontal_deg']):.1f}° from horizontal"
 
     def delta_rho(eye):
-        with open(results / "eyes" / eye / "receptors.csv", newline="") as f:
-            values = [float(r["delta_rho_deg"]) for r in csv.DictReader(f)]
-        low, high = min(values), max(values)
+        values = _delta_rho(results, eye)
+        low, high = values.min(), values.max()
         return f"{low:.2f}° everywhere" if math.isclose(low, high) else f"{low:.2f}–{high:.2f}°"
 
     def rim(q):
@@ -119,8 +115,7 @@ def worker_eye(results, eyes_dir):
 def eyes(results, eyes_dir):
     """Every compared eye's facets, corneal area, Δφ, Δρ and fields, the published values in brackets where they
     differ."""
-    with open(results / "comparison" / "acuity.csv", newline="") as f:
-        names = [row["eye"] for row in csv.DictReader(f)]
+    names = read_table(results / "comparison" / "acuity.csv")["eye"].tolist()
     lines = ["| eye | facets an eye (published) | corneal area, mm² (published) | Δφ median, ° | Δρ median, ° "
              "| one eye's field, sr (published) | binocular, sr |", "|---|---|---|---|---|---|---|"]
     for name in names:
@@ -142,7 +137,7 @@ def eyes(results, eyes_dir):
         area = q["size"]["corneal_area_mm2"]
         lines.append(" | ".join([
             f"| {name}", facets, given("corneal_area_mm2", area),
-            f"{q['optics']['delta_phi_deg']['p50']:.2f}", f"{_receptor_medians(results, name, 'delta_rho_deg'):.2f}",
+            f"{q['optics']['delta_phi_deg']['p50']:.2f}", f"{np.median(_delta_rho(results, name)):.2f}",
             given("field_fraction", field["right_sr"], 4 * math.pi),
             f"{field['binocular_sr']:.2f} |"]))
     return "\n".join(lines)
