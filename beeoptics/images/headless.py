@@ -25,7 +25,7 @@ def chromium():
     return found
 
 
-def open_page(page, screenshot=None, fragment="", dom=False, timeout_s=120):
+def open_page(page, screenshot=None, fragment="", dom=False, timeout_s=120, virtual_time=True):
     """Open ``page`` (an HTML file) as a browser would from disk, every host name unresolvable.
 
     Parameters
@@ -37,6 +37,11 @@ def open_page(page, screenshot=None, fragment="", dom=False, timeout_s=120):
         Appended to the page's URL (``"#receptor=12"``).
     dom : bool
         Also return the DOM once the page's scripts have run.
+    virtual_time : bool
+        Let Chromium run the page's timers on virtual time (20 s of it) before the screenshot and the
+        DOM are taken, so that both show the page drawn. The page's clock is then virtual too, and runs
+        ahead of the real one by the timers it skipped; without it the clock is real, and the page is
+        read once it has loaded (a page still drawing then says nothing of being drawn).
 
     Returns
     -------
@@ -46,7 +51,7 @@ def open_page(page, screenshot=None, fragment="", dom=False, timeout_s=120):
     """
     base = [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
             f"--window-size={WINDOW[0]},{WINDOW[1]}", "--host-resolver-rules=MAP * ~NOTFOUND",
-            "--enable-logging=stderr", "--v=0", "--virtual-time-budget=20000"]
+            "--enable-logging=stderr", "--v=0", *(["--virtual-time-budget=20000"] if virtual_time else [])]
     url = f"file://{page}{fragment}"
     shot = [f"--screenshot={screenshot}"] if screenshot is not None else []
     result = subprocess.run([*base, *shot, url], capture_output=True, text=True, timeout=timeout_s)
