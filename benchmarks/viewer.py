@@ -12,7 +12,8 @@ runs ahead of the real one by the timers Chromium skips (each opening takes a sc
 Chromium's headless mode then ends once the page has loaded). The last line printed is one JSON
 object: ``bytes``, ``megabytes``, ``drawn_s`` and ``drawn_virtual_s`` (the medians), ``runs``
 and ``virtual_runs`` (each run's) and ``receptors``. Bounds (issue 26): ≤ 10 MB and drawn in
-≤ 3 s. With ``--screenshot`` it also writes a PNG of the page with receptor ``--receptor``'s hover label open: the README's figure.
+≤ 3 s. With ``--screenshot`` it also writes a PNG of the page with receptor ``--receptor``'s
+hover label open: the README's figure.
 """
 
 import argparse

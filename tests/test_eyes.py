@@ -27,8 +27,8 @@ def built(tmp_path_factory):
     for caste, paths in dirs.items():
         d = paths["receptors"].parent
         out[caste] = {"quality": json.loads((d / "quality.json").read_text()),
-                      "receptors": read_receptors(d / "receptors.csv"), "eye": load_eye(ROOT / "eyes" / caste / "eye.yaml"),
-                      "dir": d}
+                      "receptors": read_receptors(paths["receptors"]),
+                      "eye": load_eye(ROOT / "eyes" / caste / "eye.yaml"), "dir": d}
     return out
 
 
