@@ -1,8 +1,8 @@
 # Two commands do everything on a fresh machine (Debian/Ubuntu, Python 3.11, as root):
 #   make workflow   set up, then run the default workflow (also plain `make`)
 #   make test       set up (with Chromium, for the viewers' tests), then run the test suite
-# Set-up installs the system library Open3D needs, creates .venv and installs the
-# package with every dependency pinned; it is skipped when nothing changed.
+# Set-up installs the system library Open3D needs, creates .venv, installs the package with
+# every dependency pinned and compiles its kernels; it is skipped when nothing changed.
 
 PYTHON ?= python3
 VENV := .venv
@@ -35,4 +35,6 @@ $(STAMP): pyproject.toml requirements.lock
 	$(BIN)/pip install --quiet --disable-pip-version-check --no-deps -e .
 	# FReD's spectra ship in dreye's data; its code and dependencies are not needed.
 	$(BIN)/pip install --quiet --disable-pip-version-check --no-deps dreye==1.1.0
+	# The tracer's and the relaxation's kernels, compiled once into numba's cache (beeoptics.jit).
+	$(BIN)/beeoptics compile-kernels
 	touch $@

@@ -526,6 +526,15 @@ def _count(text):
     return value
 
 
+def compile_kernels(args):
+    """Compile every compiled kernel (the tracer's, the facet relaxation's) into numba's cache, as a toy eye
+    and scene call them, so that no later run pays for compiling (beeoptics.pipeline.kernels). make runs it
+    at set-up; a run without it compiles each kernel on its first call instead."""
+    from beeoptics.pipeline.kernels import compile_kernels as compile_all
+
+    compile_all()
+
+
 def parser():
     """The parser of every subcommand; the config settings' defaults come from the schema."""
     top = _Parser(prog="beeoptics", description=__doc__.split("\n\n")[0].replace("``", ""))
@@ -637,6 +646,9 @@ def parser():
                        description=info.__doc__)
     p.add_argument("path", metavar="PATH", help="eye.yaml, scene.yaml, receptors.csv, a .eye or a .ply")
     p.set_defaults(run=info)
+    p = sub.add_parser("compile-kernels", help="compile the tracer's and the relaxation's kernels into numba's "
+                       "cache (make does it at set-up)", description=compile_kernels.__doc__)
+    p.set_defaults(run=compile_kernels)
     return top
 
 

@@ -17,6 +17,7 @@ Proc. Second Workshop on the LLVM Compiler Infrastructure in HPC, 7:1–6.
 """
 
 import functools
+import importlib
 import logging
 import threading
 import time
@@ -53,17 +54,27 @@ class Kernel:
                 if self._compiled is None:
                     numba = _numba()
                     # numba reads a kernel's globals when it compiles it: the kernels it calls
-                    # must be numba's by then.
+                    # must be numba's by then, and the numba modules it names imported.
                     scope = self.py_func.__globals__
                     for name in _global_names(self.py_func.__code__):
                         value = scope.get(name)
                         if isinstance(value, Kernel):
                             scope[name] = value.compiled()
+                        elif isinstance(value, NumbaModule):
+                            scope[name] = importlib.import_module(value.name)
                     self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.py_func)
         return self._compiled
 
     def __call__(self, *args, **kwargs):
         return self.compiled()(*args, **kwargs)
+
+
+class NumbaModule:
+    """A module of numba's that kernels name (``numba.typed``, ``numba.types``), imported when the first of
+    them is compiled, so that importing the module that holds them imports nothing of numba."""
+
+    def __init__(self, name):
+        self.name = name
 
 
 def _global_names(code):

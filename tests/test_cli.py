@@ -57,7 +57,7 @@ def test_help_of_every_subcommand_explains_every_option(capsys):
     code, out, _ = call(capsys, "--help")
     assert code == 0
     subcommands = top._subparsers._group_actions[0].choices
-    assert set(subcommands) == {"build-eye", "render", "daylight", "meadow", "convert", "info"}
+    assert set(subcommands) == {"build-eye", "render", "daylight", "meadow", "convert", "info", "compile-kernels"}
     schema = yaml.safe_load(cli.CONFIG_SCHEMA.read_text())
     for name, sub in subcommands.items():
         assert name in out

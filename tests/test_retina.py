@@ -1,7 +1,8 @@
 import numpy as np
 from scipy.spatial import cKDTree
 
-from beeoptics.images.retina import canvas, density, nearest_receptor, panel_extents, voronoi
+from beeoptics.images.fieldmaps import paint
+from beeoptics.images.retina import canvas, density, nearest_receptor, panel_extents
 
 
 def lattice(n=30):
@@ -29,7 +30,7 @@ def test_a_voronoi_pixel_belongs_to_its_nearest_receptor():
 def test_outside_the_convex_hull_is_empty():
     xy, sides = lattice()
     can = canvas(xy, 120)
-    img = voronoi(can, xy, sides, np.ones(len(xy)))
+    img = paint(nearest_receptor(can, xy, sides), np.ones(len(xy)))
     corner = np.abs(can.xy).max(-1) > 1.06
     assert np.isnan(img[corner, 0]).all()
 

@@ -95,3 +95,18 @@ def test_the_check_fails_on_a_viewer_that_loads_plotly_from_the_network(workdir,
     online.write_text(text[:start] + '<script src="https://cdn.plot.ly/plotly-3.0.1.min.js"></script>' + text[end:])
     with pytest.raises(AssertionError):
         check_drawn_offline(online, tmp_path)
+
+
+def test_a_viewer_written_again_is_the_same_bytes(workdir, tmp_path):
+    """Same inputs, same page (plotly names its figure's element at random unless told a name)."""
+    from beeoptics.pipeline.images import viewer
+    from beeoptics.vision.receptorset import receptor_set_of
+
+    results = workdir / "results"
+    pages = []
+    for k in range(2):
+        pages.append(tmp_path / f"viewer_{k}.html")
+        viewer(results / "eyes" / "tiny" / "receptors.csv", results / "tiny" / "flower" / "responses.csv",
+               results / "tiny" / "flower" / "irradiance.npz", {"viewer": pages[-1]},
+               receptor_set=receptor_set_of(workdir / "eyes" / "tiny" / "eye.yaml"), title="tiny in flower")
+    assert pages[0].read_bytes() == pages[1].read_bytes()

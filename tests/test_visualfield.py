@@ -85,7 +85,7 @@ def test_two_eyes_overlap_where_their_fields_do():
     assert (equator[(az > 20) & (az < 100)] == LEFT).all()
     assert (equator[(az < -20) & (az > -100)] == RIGHT).all()
     assert (equator[np.abs(az) > 150] == 0).all()
-    painted = paint(field, np.where(sides == "left", 1.0, 2.0))
+    painted = paint(field.receptor, np.where(sides == "left", 1.0, 2.0))
     assert np.isnan(painted[field.eyes == 0]).all()
     assert set(np.unique(painted[field.eyes == LEFT])) == {1.0}
 

@@ -10,11 +10,8 @@ meant to reproduce, each with its source. See ``beeoptics/io/schemas/eye.schema.
 from pathlib import Path
 from typing import NamedTuple
 
-import igl
 import numpy as np
 
-from beeoptics.eye.cornea import cornea_frame, reconstruct
-from beeoptics.eye.facetmap import FILL
 from beeoptics.eye.given import given_right_eye, surface
 from beeoptics.eye.optics import RHABDOM_ACCEPTANCE_DEG
 from beeoptics.headframe import EYE_SIZE_MM, RIGHT, eye_rotation
@@ -22,6 +19,10 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.meshfile import read_mesh
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import load_yaml, validate
+
+#: An anchor whose diameter the count and the cornea set (facet_diameter.anchors[].diameter_um).
+FILL = "fill"
+
 
 class EyeDescription(NamedTuple):
     """One eye class, as its ``eye.yaml`` describes it.
@@ -96,6 +97,10 @@ def load_eye(path):
             given = given_right_eye(ommatidia_path, path, "ommatidia.file")
             positions, normals = given.position, given.axis
             facets = {"count": len(given.id), **facets}
+        # Imported where used, as are libigl and the mesh readers: most stages read an eye's description
+        # for its frame and its anchors, and need not pay for the surface reconstruction's libraries.
+        from beeoptics.eye.cornea import cornea_frame
+
         rotation, origin = cornea_frame(positions, normals)
     else:
         p = doc["placement"]
@@ -143,6 +148,10 @@ def load_eye_mesh(eye):
         faces do not face outward along the eye's local +z; or if the eye's
         facet count could not tile it (:func:`check_facet_count`).
     """
+    import igl
+
+    from beeoptics.eye.cornea import reconstruct
+
     if eye.ommatidia_path is not None:
         return surface(eye, given_right_eye(eye.ommatidia_path, eye.path, "ommatidia.file"))[:2]
     if eye.cornea_path is not None:

@@ -40,10 +40,6 @@ def anchor_vertices(normals, anchors):
     return np.argmax(normals @ dirs.T, axis=0)
 
 
-#: An anchor whose diameter the count and the cornea set.
-FILL = "fill"
-
-
 def _weights(vertices, faces, sources, power):
     """Shepard's normalised weights of each anchor at each vertex (anchors, vertices)."""
     dist = heat_distances(vertices, faces, sources)

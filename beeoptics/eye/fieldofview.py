@@ -100,7 +100,7 @@ def within_lattice(axes, delta_phi_deg, unit):
     longest = max(np.linalg.norm(a - b, axis=1).max(), np.linalg.norm(b - c, axis=1).max(),
                   np.linalg.norm(c - a, axis=1).max())
     todo = np.flatnonzero(cKDTree(axes).query(unit, distance_upper_bound=longest)[0] <= longest)
-    k = min(16, len(tri))
+    k = min(4, len(tri))
     while todo.size:
         distance, near = tree.query(unit[todo], k=k)
         distance, near = distance.reshape(len(todo), -1), near.reshape(len(todo), -1)
@@ -146,7 +146,10 @@ def visual_field(axes, sides, delta_rho_deg, delta_phi_deg, width_px=720):
             continue
         chord, k = cKDTree(axes[mine]).query(flat)
         angle = 2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0))
-        seen = (angle <= half_width[mine[k]]) | within_lattice(axes[mine], delta_phi_deg[mine], flat)
+        seen = angle <= half_width[mine[k]]
+        # Only directions beyond every axis's half width need the lattice's test.
+        rest = np.flatnonzero(~seen)
+        seen[rest] = within_lattice(axes[mine], delta_phi_deg[mine], flat[rest])
         eyes[seen] |= bit
         nearer = seen & (angle < best)
         receptor[nearer], best[nearer] = mine[k[nearer]], angle[nearer]

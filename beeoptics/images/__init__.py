@@ -6,7 +6,7 @@ from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
     "display": ("bee_colours", "encode", "map3"),
-    "retina": ("canvas", "density", "nearest_receptor", "retinal_plane", "voronoi"),
+    "retina": ("canvas", "density", "nearest_receptor", "retinal_plane"),
     "fieldmaps": ("paint",),
     "figures": ("angular_sensitivities", "colour_space", "eye_map", "relaxation", "sensitivities", "visual_field"),
 })

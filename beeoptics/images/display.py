@@ -15,9 +15,7 @@ NaN, which images show transparent, so that a receptor that caught no
 light (black) stands apart from the space outside the eye.
 """
 
-import colour
 import numpy as np
-from matplotlib.colors import hsv_to_rgb
 
 from beeoptics.vision.human import srgb, tristimulus
 
@@ -41,6 +39,8 @@ def map3(relative, display):
 
 def encode(linear, scale=1.0):
     """Linear values to sRGB-encoded display values in [0, 1], ``scale`` at full brightness; NaN kept."""
+    import colour  # imported where used, as in beeoptics.vision.human
+
     return colour.cctf_encoding(np.clip(np.asarray(linear) / scale, 0.0, 1.0), function="sRGB")
 
 
@@ -75,5 +75,7 @@ def bee_colours(catches, white_catches, wavelengths_nm, radiance, display):
 
 def polarisation_colours(degree, angle_deg):
     """Polarisation as colour, linear RGB (n, 3): hue the angle (cyclic over 0–180°), saturation the degree."""
+    from matplotlib.colors import hsv_to_rgb
+
     hsv = np.stack([np.asarray(angle_deg) / 180.0, np.clip(degree, 0.0, 1.0), np.ones(np.shape(degree))], -1)
     return hsv_to_rgb(np.nan_to_num(hsv))

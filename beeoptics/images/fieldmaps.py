@@ -1,16 +1,19 @@
-"""Maps of the visual field: per-receptor values painted on the equirectangular map of both eyes.
+"""Maps of receptors: per-receptor values painted on the pixels each receptor shows.
 
-The map's geometry, which receptor sees each direction, is the eye's
-(:mod:`beeoptics.eye.fieldofview`); this paints values on it.
+A map's geometry, which receptor each pixel shows, is the eye's: on the
+equirectangular map of the visual field (:mod:`beeoptics.eye.fieldofview`)
+or in the retinal plane (:func:`beeoptics.images.retina.nearest_receptor`);
+found once, it paints every image of the same eye.
 """
 
 import numpy as np
 
 
-def paint(field, values):
-    """Per-receptor values on the map, (h, w, c); NaN where no receptor sees."""
+def paint(receptor, values):
+    """Per-receptor values (n, c) on a map whose pixels show receptors ``receptor`` (h, w; −1 none): (h, w, c),
+    NaN where no receptor is shown."""
     values = np.asarray(values, float).reshape(len(values), -1)
-    out = np.full((*field.receptor.shape, values.shape[1]), np.nan)
-    seen = field.receptor >= 0
-    out[seen] = values[field.receptor[seen]]
+    out = np.full((*receptor.shape, values.shape[1]), np.nan)
+    seen = receptor >= 0
+    out[seen] = values[receptor[seen]]
     return out

@@ -79,25 +79,19 @@ def panel_extents(can):
     return extents
 
 
-def voronoi(can, xy, sides, values):
-    """Nearest-receptor image, NaN outside each eye's convex hull; values (n, c) → (h, w, c)."""
-    values = np.asarray(values, float).reshape(len(xy), -1)
-    out = np.full(can.side.shape + (values.shape[1],), np.nan)
+def nearest_receptor(can, xy, sides):
+    """Index of the receptor each pixel shows (−1 outside its eye's convex hull): the Voronoi diagram of the
+    receptors in the retinal plane (Collins §4.3), to paint with :func:`beeoptics.images.fieldmaps.paint`."""
+    out = np.full(can.side.shape, -1)
     for s in (LEFT, RIGHT):
         mine = np.flatnonzero(np.asarray(sides) == s)
         where = can.side == s
         points = can.xy[where]
         inside = Delaunay(xy[mine]).find_simplex(points) >= 0
-        nearest = cKDTree(xy[mine]).query(points[inside])[1]
-        block = np.full((len(points), values.shape[1]), np.nan)
-        block[inside] = values[mine[nearest]]
+        block = np.full(len(points), -1)
+        block[inside] = mine[cKDTree(xy[mine]).query(points[inside])[1]]
         out[where] = block
     return out
-
-
-def nearest_receptor(can, xy, sides):
-    """Index of the receptor each pixel shows (−1 outside the eyes)."""
-    return np.nan_to_num(voronoi(can, xy, sides, np.arange(len(xy)))[..., 0], nan=-1).astype(int)
 
 
 def density(can, xy, sides, values, normalise):

@@ -30,6 +30,8 @@ import numpy as np
 from beeoptics.headframe import LEFT, RIGHT, eye_azimuth_elevation
 from beeoptics.io.atomic import atomic_path
 
+#: The figure's element: named, since plotly would name it at random and the page differ from run to run.
+DIV_ID = "beeoptics-viewer"
 #: Colour of the receptors a selection leaves out, and the size of a point on the map and the sphere.
 UNSELECTED_OPACITY, MAP_MARKER, SPHERE_MARKER = 0.15, 3, 2
 #: The page's script: every colouring is embedded once, and a colouring button recolours every trace
@@ -167,7 +169,7 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
                             "n": len(az), "ids": json.dumps(np.asarray(receptors.id).tolist()),
                             "az": json.dumps(np.round(az, 3).tolist()), "el": json.dumps(np.round(el, 3).tolist()),
                             "big": 3 * SPHERE_MARKER}
-    html = fig.to_html(include_plotlyjs=True, full_html=True, post_script=script,
+    html = fig.to_html(include_plotlyjs=True, full_html=True, post_script=script, div_id=DIV_ID,
                        config={"displaylogo": False, "responsive": True})
     with atomic_path(path) as tmp:
         tmp.write_text(shared_once(html), encoding="utf-8")
@@ -231,4 +233,4 @@ def flight_viewer(path, receptors, frames, catches, classes, times_s, title, cap
         margin={"b": 170}, meta={"receptors": len(az), "frames": len(colours)})
     with atomic_path(path) as tmp:
         fig.write_html(tmp, include_plotlyjs=True, full_html=True, auto_play=False, post_script=FLIGHT_SCRIPT,
-                       config={"displaylogo": False, "responsive": True})
+                       div_id=DIV_ID, config={"displaylogo": False, "responsive": True})

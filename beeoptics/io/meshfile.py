@@ -13,9 +13,7 @@ depend on the reader) and be manifold along its edges.
 import tempfile
 from pathlib import Path
 
-import igl
 import numpy as np
-import pymeshlab
 
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
@@ -48,6 +46,10 @@ def read_mesh(path, patterns=False, source=None, field=""):
     # Also refuses faces that are not triangles, in every format: pymeshlab's own
     # polygon list took a fifth of loading a meadow of a million triangles.
     check_mesh_file(path)
+    # pymeshlab and libigl are imported where used: a stage that meets a scene through the scene cache
+    # (beeoptics.light.scenecache) reads no mesh, and need not pay for them.
+    import pymeshlab
+
     ms = pymeshlab.MeshSet()
     try:
         if path.suffix.lower() == ".obj":
@@ -74,6 +76,8 @@ def read_mesh(path, patterns=False, source=None, field=""):
 
 
 def _check_manifold(path, faces):
+    import igl
+
     if not igl.is_edge_manifold(faces)[0]:
         raise InputError(path, "faces", "the mesh is not manifold: an edge is shared by more than two faces")
 
@@ -97,6 +101,8 @@ def _face_colours(mesh, faces):
 
 def write_mesh(path, vertices, faces, normals=None):
     """Write a triangle mesh as binary PLY, with vertex normals if given, atomically."""
+    import igl
+
     extra = {} if normals is None else {"N": np.ascontiguousarray(normals, dtype=np.float64)}
     with atomic_path(path) as tmp:
         igl.writePLY(
@@ -109,6 +115,8 @@ def write_mesh(path, vertices, faces, normals=None):
 
 def read_mesh_normals(path):
     """Vertices, faces and vertex normals of a mesh this package wrote."""
+    import pymeshlab
+
     ms = pymeshlab.MeshSet()
     ms.load_new_mesh(str(path))
     m = ms.current_mesh()

@@ -30,7 +30,6 @@ for modeling solar energy systems. J Open Source Softw 3:884.
 from typing import NamedTuple
 
 import numpy as np
-import pvlib
 
 from beeoptics.spectra import resample, write_pavo_csv
 
@@ -92,6 +91,8 @@ def clear_sky(wavelengths, elevation_deg, turbidity, albedo=0.0, day_of_year=DAY
     -------
     Daylight
     """
+    import pvlib  # imported where used: only stages that compute daylight pay for it
+
     wl = np.asarray(wavelengths, float)
     if elevation_deg <= 0.0:
         return Daylight(wl, np.zeros_like(wl), np.zeros_like(wl), float(elevation_deg))

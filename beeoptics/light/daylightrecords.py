@@ -29,8 +29,6 @@ from functools import cache
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
-from scipy.io import loadmat
 
 from beeoptics.io.errors import InputError
 from beeoptics.spectra import resample
@@ -54,6 +52,8 @@ def _on_grid(wavelengths, records, onto, source="daylight", field="measured_dayl
 
 @cache
 def _granada():
+    from scipy.io import loadmat  # imported where used: only the daylight comparison reads these records
+
     return np.linspace(300.0, 1100.0, 161), loadmat(_datasets() / "granada_daylight.mat")["final"].T
 
 
@@ -64,6 +64,8 @@ def granada(wavelengths):
 
 @cache
 def _spitschan():
+    import pandas as pd  # as in _granada
+
     df = pd.read_feather(_datasets() / "spitschan2016" / "spitschan2016.feather",
                          columns=["data_id", "solar_elevation", "wavelengths", "spectralirradiance"])
     wide = df.pivot_table("spectralirradiance", "data_id", "wavelengths", dropna=False)

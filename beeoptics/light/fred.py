@@ -20,8 +20,6 @@ from functools import cache
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
-import pyarrow as pa
 
 from beeoptics.io.errors import InputError
 from beeoptics.spectra import resample
@@ -46,11 +44,16 @@ SPECTRUM = ["data_id", "wavelengths", "reflectance"]
 @cache
 def _spectra():
     """The spectral columns of every row: data_id, wavelength (nm), reflectance."""
+    import pandas as pd  # imported where used: only scenes with FReD's spectra read the database
+
     return pd.read_feather(database_path(), columns=SPECTRUM)
 
 
 @cache
 def _metadata():
+    import pandas as pd  # as in _spectra
+    import pyarrow as pa
+
     # Only the metadata columns: the whole file, spectra included, takes a second to read.
     names = pa.ipc.open_file(database_path()).schema.names
     return pd.read_feather(database_path(), columns=[c for c in names if c not in SPECTRUM[1:]]).drop_duplicates(

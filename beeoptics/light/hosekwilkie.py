@@ -34,7 +34,6 @@ from functools import cache
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from beeoptics.jit import kernel
 
@@ -49,6 +48,8 @@ COS_OFFSET = 0.01
 @cache
 def _tables():
     """Coefficients (11, 2, 10, 6, 9) and mean radiance (11, 2, 10, 6): channel, albedo, turbidity, control point."""
+    import pandas as pd  # imported where used: only a Hosek–Wilkie sky reads the table
+
     t = pd.read_csv(TABLE_FILE, comment="#").sort_values(["wavelength_nm", "albedo", "turbidity", "control_point"])
     shape = (len(CHANNELS_NM), 2, 10, 6)
     return t[_PARAMS].to_numpy().reshape(*shape, 9), t["radiance"].to_numpy().reshape(shape)

@@ -69,7 +69,7 @@ import threading
 
 import numpy as np
 
-from beeoptics.jit import kernel
+from beeoptics.jit import NumbaModule, kernel
 from beeoptics.light.emitters import Lights, sample_sky, sample_sun, sky_density, sky_table
 from beeoptics.light.hosekwilkie import shape_radiance
 from beeoptics.light.mueller import depolarise, double_angle, plane_normal, reflect, reflect_column
@@ -95,6 +95,8 @@ SKY_SAMPLING = ("nee", "escape")
 NEGLIGIBLE_ACCEPTANCE = 1e-12
 #: Random dimensions of the sun's samples in a receptor's cone, apart from the events' and the cones'.
 SUN_DIMENSIONS = (254, 255)
+#: numba's typed containers and types, for the kernels that number sequences of materials.
+typed, types = NumbaModule("numba.typed"), NumbaModule("numba.types")
 
 
 @kernel
@@ -352,12 +354,13 @@ def _half_cosine(d, x, y, z):
     norm = np.sqrt(hx * hx + hy * hy + hz * hz)
     return (hx * x + hy * y + hz * z) / norm if norm > 0.0 else 1.0
 
+@kernel
 def _no_sequences():
     """The list of sequences of materials with only the empty one (0), and its inverse: numba's typed
-    containers, which the kernels extend (imported here, where a trace begins, as numba is nowhere else)."""
-    from numba import typed, types
-
-    sequences = typed.List([0])
+    containers, which the kernels extend. Made in compiled code, which numba caches: made from Python, they
+    would compile numba's own helpers, which it does not cache, in every process (about a second)."""
+    sequences = typed.List.empty_list(types.int64)
+    sequences.append(0)
     numbers = typed.Dict.empty(types.int64, types.int64)
     numbers[0] = 0
     return sequences, numbers

@@ -24,7 +24,6 @@ Duff T, Burgess J, Christensen P, Hery C, Kensler A, Liani M, Villemin R
 """
 
 import numpy as np
-from scipy.stats import qmc
 
 from beeoptics.jit import kernel
 
@@ -80,6 +79,8 @@ def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
     -------
     ndarray, shape (n, samples, 2)
     """
+    from scipy.stats import qmc  # imported where used: scipy.stats takes half a second, which only tracing needs
+
     n = len(streams)
     first_samples = np.zeros(n, np.int64) if first_samples is None else np.asarray(first_samples)
     base = np.empty((n, samples, 2))

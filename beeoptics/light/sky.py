@@ -32,9 +32,7 @@ distribution — preliminary configuration and validation. Sol Energy 50:235–2
 
 from typing import NamedTuple
 
-import colour
 import numpy as np
-from colour.constants import CONSTANT_K_M
 
 from beeoptics.light import hosekwilkie, skypolarisation
 from beeoptics.spectra import resample
@@ -147,6 +145,8 @@ def cie_daylight(wavelengths, cct):
 
     ``cct`` in kelvin on the current scale: 6504 K for D65 (CIE 015:2004).
     """
+    import colour  # imported where used: it takes a second (matplotlib with it), which most stages need not pay
+
     xy = colour.temperature.CCT_to_xy_CIE_D(cct)
     sd = colour.sd_CIE_illuminant_D_series(xy)
     v = resample(sd.wavelengths, sd.values, wavelengths, f"CIE D{cct:g}")
@@ -159,8 +159,10 @@ def luminance(wavelengths, radiance):
     colour-science's ``luminous_flux`` with the CIE 1924 photopic V(λ) and
     K_m = 683 lm W⁻¹ (CIE 015:2018); only the grid's 360–700 nm part counts.
     """
+    import colour  # imported where used, as in cie_daylight
+
     return colour.luminous_flux(colour.SpectralDistribution(np.asarray(radiance, float), np.asarray(wavelengths, float)),
-                                K_m=CONSTANT_K_M)
+                                K_m=colour.constants.CONSTANT_K_M)
 
 
 def horizontal_irradiance(sky, sun, n_wavelengths, samples=QUADRATURE):

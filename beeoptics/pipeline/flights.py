@@ -181,9 +181,9 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
                             "receptors": int(on.sum()),
                             **{f"{r}_relative": float(relative[on, j].mean()) if on.any() else np.nan
                                for j, r in enumerate(receptor_set.classes)}})
-        panels = {"bee colours (map3)": np.where(seen[..., None], encode(paint(field, colours)), np.nan),
+        panels = {"bee colours (map3)": np.where(seen[..., None], encode(paint(field.receptor, colours)), np.nan),
                   f"{receptor_set.classes[shortest]} catch over white's":
-                      np.repeat(np.clip(paint(field, relative[:, shortest:shortest + 1]), 0.0, 1.0), 3, -1)}
+                      np.repeat(np.clip(paint(field.receptor, relative[:, shortest:shortest + 1]), 0.0, 1.0), 3, -1)}
         frames.append(figures.visual_field_frame(panels, field.eyes, field.azimuth_deg, field.elevation_deg,
                                                  human,
                                                  f"{title}, t = {float(g['time_s']):.2f} s"))
@@ -327,7 +327,7 @@ def video_frame(field, colours, human=None):
     """One frame of a views video, uint8 (h, w, 3): map3 of each receptor on the equirectangular visual
     field, azimuth running to the bee's left as on the animation's maps, grey where no receptor sees, and
     the human view (sRGB in [0, 1]) beside it, scaled to the map's height."""
-    rgb = encode(paint(field, colours))
+    rgb = encode(paint(field.receptor, colours))
     rgb = np.where(np.isnan(rgb), 0.35, rgb)[:, ::-1]
     image = np.rint(rgb * 255.0).astype(np.uint8)
     if human is None:

@@ -13,7 +13,7 @@ from beeoptics.images.display import bee_colours, encode, polarisation_colours
 from beeoptics.images.fieldmaps import paint
 from beeoptics.headframe import in_eye_plane
 from beeoptics.pipeline.outputs import channel
-from beeoptics.images.retina import canvas, density, panel_extents, retinal_plane, voronoi
+from beeoptics.images.retina import canvas, density, nearest_receptor, panel_extents, retinal_plane
 from beeoptics.io.imagefile import read_image, write_exr
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table
@@ -66,23 +66,24 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
     extents = panel_extents(can)
     anterior, dorsal = in_eye_plane(eye.rotation)
     dens = density(can, xy, table.side, colours, normalise=False)
+    shows = nearest_receptor(can, xy, table.side)
     shown = {
-        "voronoi_map3": encode(voronoi(can, xy, table.side, colours)),
+        "voronoi_map3": encode(paint(shows, colours)),
         # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
-        "voronoi_map2": voronoi(can, xy, table.side, srgb),
+        "voronoi_map2": paint(shows, srgb),
         "density_map3": encode(dens, np.nanpercentile(dens, 99.5)),
         "density_map3_normalised": encode(density(can, xy, table.side, colours, normalise=True)),
     }
     captions = {k: v.format(display=display_words(receptor_set)) for k, v in RETINAL_CAPTIONS.items()}
     for k, name in enumerate(receptor_set.classes):
-        shown[channel(name)] = np.clip(voronoi(can, xy, table.side, relative[:, k])[..., 0], 0.0, 1.0)
+        shown[channel(name)] = np.clip(paint(shows, relative[:, k])[..., 0], 0.0, 1.0)
         captions[channel(name)] = (f"{name} receptor catch over a white surface's under the scene's light, linear, "
                                    "0 black, 1 white, above 1 clipped.")
     for name, image in shown.items():
         figures.retina(image, extents, anterior, dorsal, outputs[name], f"{title}: {name.replace('_', ' ')}",
                        f"{captions[name]} {_SURROUND}",
                        "catch ÷ white's catch" if image.ndim == 2 else None)
-    write_exr(outputs["exr"], np.nan_to_num(voronoi(can, xy, table.side, catches), nan=0.0), receptor_set.classes)
+    write_exr(outputs["exr"], np.nan_to_num(paint(shows, catches), nan=0.0), receptor_set.classes)
 
 
 def display_words(receptor_set):
@@ -107,13 +108,13 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
     seen = field.receptor >= 0
     panels = {
         f"bee colours (map3: {display_words(receptor_set)}, white = 1)":
-            np.where(seen[..., None], encode(paint(field, colours)), np.nan),
-        "human colours on the bee's geometry (map2)": paint(field, srgb),
+            np.where(seen[..., None], encode(paint(field.receptor, colours)), np.nan),
+        "human colours on the bee's geometry (map2)": paint(field.receptor, srgb),
     }
     human = None if human_png is None else read_image(human_png)[0][..., :3]
     figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, human, outputs["figure"],
                          "visual field of both eyes, equirectangular")
-    painted = np.nan_to_num(paint(field, catches), nan=0.0)
+    painted = np.nan_to_num(paint(field.receptor, catches), nan=0.0)
     write_exr(outputs["exr"], np.concatenate([painted, field.eyes[..., None].astype(float)], -1),
               (*receptor_set.classes, "eyes"))
 

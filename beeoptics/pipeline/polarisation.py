@@ -15,17 +15,15 @@ from beeoptics.headframe import head_rotation, in_eye_plane
 from beeoptics.images import figures
 from beeoptics.images.display import polarisation_colours
 from beeoptics.images.fieldmaps import paint
-from beeoptics.images.retina import canvas, panel_extents, retinal_plane, voronoi
+from beeoptics.images.retina import canvas, nearest_receptor, panel_extents, retinal_plane
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
-from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import load_scene, raycasting_scene, relit
-from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.light.skypolarisation import patterns
 from beeoptics.pipeline.logs import log
-from beeoptics.pipeline.trace import trace_receptors
+from beeoptics.pipeline.trace import trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision import compass as sky_compass
@@ -107,15 +105,15 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
     colours = polarisation_colours(degree[:, a], angle[:, a])
     name = receptor_set.classes[a]
     field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, field_width_px)
-    panels = {f"{name}: angle (hue) and degree (saturation) of polarisation": paint(field, colours),
-              f"{name}: degree of polarisation": np.repeat(paint(field, degree[:, a:a + 1]), 3, -1)}
+    panels = {f"{name}: angle (hue) and degree (saturation) of polarisation": paint(field.receptor, colours),
+              f"{name}: degree of polarisation": np.repeat(paint(field.receptor, degree[:, a:a + 1]), 3, -1)}
     figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, None, outputs["field"],
                          f"{title}: polarisation over the visual field")
     eye = load_eye(eye_file)
     xy = retinal_plane(eye, table.position, table.side)
     can = canvas(xy, width_px)
     anterior, dorsal = in_eye_plane(eye.rotation)
-    figures.retina(voronoi(can, xy, table.side, colours), panel_extents(can), anterior, dorsal, outputs["retina"],
+    figures.retina(paint(nearest_receptor(can, xy, table.side), colours), panel_extents(can), anterior, dorsal, outputs["retina"],
                    f"{title}: polarisation in the retinal plane", POLARISATION_CAPTION)
     axes = table.axis[rim]
     figures.dorsal_rim(np.degrees(np.arctan2(axes[:, 1], axes[:, 0])), np.degrees(np.arcsin(axes[:, 2])),
@@ -145,35 +143,38 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=
     turns = 360.0 * np.arange(headings) / headings
     a = _analysers(receptor_set, receptors_csv)
     uv = curves(receptor_set, wl, receptor_curves)[:, a:a + 1]
-
-    def read(scene):
-        rs = raycasting_scene(scene)
-        estimate, confidence, truth, hidden = [], [], [], []
-        for turn in turns:
-            rotation = head_rotation(turn, 0.0) @ scene.eye_rotation
-            origins = table.position[rim] * 1e-3 @ rotation.T + scene.eye_position
-            axes = table.axis[rim] @ rotation.T
-            drho = table.delta_rho_deg[rim]
-            dirs, weights = cone_samples(axes, drho, settings.samples, settings.seed)
-            stokes = trace_paths(scene, origins, dirs, weights, depth=settings.depth, seed=settings.seed, rs=rs,
-                                 cones=(axes, cone_sigma(drho)), frames=np.broadcast_to(rotation[:, 2], axes.shape))
-            catches = head_frame_stokes(quantum_catches(stokes, uv, wl)[..., 0], table.axis[rim])
-            pol = sky_compass.pol_responses(catches, table.microvilli_deg[rim], dorsal_rim_ps)
-            sun = rotation.T @ scene.sun.direction
-            suns, candidates = sky_compass.candidate_suns(np.degrees(np.arcsin(sun[2])))
-            expected = sky_compass.expected_responses(*patterns(table.axis[rim], suns, np.zeros(2), 1.0),
-                                                      table.axis[rim], table.microvilli_deg[rim])
-            e, c = sky_compass.read_out(pol, expected, candidates)
-            estimate.append(e)
-            confidence.append(c)
-            truth.append(np.degrees(np.arctan2(sun[1], sun[0])))
-            rays = np.hstack([origins, axes]).astype(np.float32)
-            hidden.append(float(np.isfinite(first_hits(rs, rays)["t_hit"]).mean()))
-        return np.array(estimate), np.array(confidence), np.array(truth), np.array(hidden)
-
+    n = int(rim.sum())
     base = load_scene(scene_file, wl)
     if base.sun is None or base.sky is None or base.sky.max_degree == 0.0:
         raise InputError(scene_file, "light", "the compass needs a clear, polarised sky and the sun")
+    # The head at every heading (heading, 3, 3); the sun in its frame, and so the template, is the same in
+    # every condition, which changes only the sky's polarisation, its turbidity and the bee's height.
+    rotations = np.array([head_rotation(turn, 0.0) @ base.eye_rotation for turn in turns])
+    suns = np.einsum("hji,j->hi", rotations, base.sun.direction)
+    truth = np.degrees(np.arctan2(suns[:, 1], suns[:, 0]))
+    templates = []
+    for sun in suns:
+        candidates, azimuths = sky_compass.candidate_suns(np.degrees(np.arcsin(sun[2])))
+        templates.append(sky_compass.expected_responses(*patterns(table.axis[rim], candidates, np.zeros(2), 1.0),
+                                                        table.axis[rim], table.microvilli_deg[rim]))
+    # Every heading's dorsal rim traced at once, each receptor drawing its own random numbers at every heading.
+    axes = np.einsum("nj,hij->hni", table.axis[rim], rotations).reshape(-1, 3)
+    streams = np.tile(np.arange(n), headings)
+    drho = np.tile(table.delta_rho_deg[rim], headings)
+    dorsal = np.repeat(rotations[:, :, 2], n, axis=0)
+
+    def read(scene):
+        rs = raycasting_scene(scene)
+        origins = (np.einsum("nj,hij->hni", table.position[rim] * 1e-3, rotations) + scene.eye_position).reshape(-1, 3)
+        stokes = trace_cones(scene, origins, axes, drho, streams, 0, len(axes), settings, len(wl), rs=rs,
+                             dorsal=dorsal)[0]
+        catches = head_frame_stokes(quantum_catches(stokes, uv, wl)[..., 0], np.tile(table.axis[rim], (headings, 1)))
+        pol = sky_compass.pol_responses(catches, np.tile(table.microvilli_deg[rim], headings), dorsal_rim_ps)
+        estimate, confidence = np.array([sky_compass.read_out(p, t, azimuths)
+                                         for p, t in zip(pol.reshape(headings, n), templates)]).T
+        hidden = np.isfinite(first_hits(rs, np.hstack([origins, axes]).astype(np.float32))["t_hit"])
+        return estimate, confidence, truth, hidden.reshape(headings, n).mean(axis=1)
+
     # The same light with nothing to hide it.
     rayleigh = relit(base, wl, {"polarisation": "rayleigh"})._replace(objects=[])
     conditions = [("Rayleigh sky, open", np.nan, rayleigh), ("clear sky, open", np.nan, base._replace(objects=[])),

@@ -109,8 +109,8 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     streams : ndarray of int (n,)
         Each cone's random-number stream: a cone of the same stream, origin
         and axis is traced the same in any call.
-    dorsal : ndarray (3,), optional
-        The head's dorsal direction: with it, Stokes vectors in its frame
+    dorsal : ndarray (3,) or (n, 3), optional
+        The head's dorsal direction, or one per cone: with it, Stokes vectors in its frame
         (:func:`trace_receptors`' ``polarised``).
     target : (ndarray, float or ndarray), optional
         A sphere (centre, radius), or one per cone ((n, 3), (n,)): also each
@@ -133,7 +133,7 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         radiance = trace_paths(scene, origins[b], dirs, weights, depth=settings.depth, seed=settings.seed,
                                streams=streams[b], first_samples=blocks.first_sample, rs=rs, counts=cast,
                                cones=(axes[b], sigma[b]),
-                               frames=None if dorsal is None else np.broadcast_to(dorsal, (len(b), 3)),
+                               frames=None if dorsal is None else np.broadcast_to(dorsal, (len(origins), 3))[b],
                                target=None if target is None else (centres[b], radii[b]),
                                sky_sampling=settings.sky_sampling)
         with counting:

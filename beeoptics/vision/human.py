@@ -11,11 +11,10 @@ IEC 61966-2-1:1999 Multimedia systems and equipment – Colour measurement
 and management – Part 2-1: Default RGB colour space – sRGB.
 """
 
-import colour
 import numpy as np
 
-#: The CIE 1931 2° standard observer, 360–830 nm.
-CMFS = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+#: The CIE 1931 2° standard observer, 360–830 nm, as colour-science names it.
+OBSERVER = "CIE 1931 2 Degree Standard Observer"
 
 
 def tristimulus(wavelengths_nm, radiance):
@@ -25,14 +24,20 @@ def tristimulus(wavelengths_nm, radiance):
     colour-science; below their first wavelength (360 nm) they are zero,
     since light there is invisible to people.
     """
+    # colour-science is imported where used: it takes a second (matplotlib with it), which stages
+    # that show nothing to people need not pay.
+    import colour
+
     wl = np.asarray(wavelengths_nm, float)
     step = float(wl[1] - wl[0])
     shape = colour.SpectralShape(wl[0], wl[-1], step)
-    cmfs = CMFS.copy().align(shape, extrapolator_kwargs={"method": "Constant", "left": 0, "right": 0})
+    cmfs = colour.MSDS_CMFS[OBSERVER].copy().align(shape, extrapolator_kwargs={"method": "Constant", "left": 0, "right": 0})
     return np.asarray(radiance) @ cmfs.values * step
 
 
 def srgb(xyz, white_luminance):
     """Display-encoded sRGB in [0, 1] of XYZ, ``white_luminance`` (Y) mapped to 1."""
+    import colour  # as in tristimulus
+
     linear = colour.XYZ_to_sRGB(np.asarray(xyz) / white_luminance, apply_cctf_encoding=False)
     return colour.cctf_encoding(np.clip(linear, 0.0, 1.0), function="sRGB")

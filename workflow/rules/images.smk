@@ -1,7 +1,8 @@
 # Images of what each eye saw, one job per eye and scene: Voronoi, density and channel images in
-# the retinal plane, the visual field beside the human view, and the colour-space figures. What an
-# eye's images are depends on its receptor set (a channel image per class, the colour spaces it
-# has), so there is one rule per receptor set among the run's eyes, each for those eyes only.
+# the retinal plane, the visual field beside the human view, the colour-space figures and the
+# interactive viewer (a self-contained HTML page). What an eye's images are depends on its receptor
+# set (a channel image per class, the colour spaces it has), so there is one rule per receptor set
+# among the run's eyes, each for those eyes only.
 
 RETINAL_CAPTIONS = {"voronoi_map3": "voronoi_map3", "voronoi_map2": "voronoi_map2", "density_map3": "density_map3",
                     "density_map3_normalised": "density_map3_normalised"}
@@ -20,7 +21,17 @@ def image_outputs(receptor_set):
     out.update({name: report(base + file, caption="../report/colour_space.rst", category="Colour spaces",
                              subcategory="{eye} in {scene}")
                 for name, file in colour_figures(receptor_set).items()})
+    out["viewer"] = report(base + VIEWER["viewer"], caption="../report/viewer.rst", category="Interactive viewers",
+                           subcategory="{eye} in {scene}")
     return out
+
+
+def polarisation_table(wildcards):
+    """The polarisation stage's table, for the eyes and scenes it runs in (config polarisation): the viewer
+    colours receptors by it too."""
+    pol = config["polarisation"]
+    traced = wildcards.eye in pol["eyes"] and wildcards.scene in pol["scenes"]
+    return {"polarisation": f"results/{wildcards.eye}/{wildcards.scene}/polarisation/polarisation.csv"} if traced else {}
 
 
 for set_name in dict.fromkeys(rs.name for rs in RECEPTOR_SETS.values()):
@@ -30,6 +41,7 @@ for set_name in dict.fromkeys(rs.name for rs in RECEPTOR_SETS.values()):
         name:
             f"images_{set_name}"
         input:
+            unpack(polarisation_table),
             eye=eye_sources,
             receptors="results/eyes/{eye}/receptors.csv",
             responses="results/{eye}/{scene}/responses.csv",
@@ -50,29 +62,3 @@ for set_name in dict.fromkeys(rs.name for rs in RECEPTOR_SETS.values()):
         script:
             "../scripts/images.py"
 
-
-def polarisation_table(wildcards):
-    """The polarisation stage's table, for the eyes and scenes it runs in (config polarisation)."""
-    pol = config["polarisation"]
-    traced = wildcards.eye in pol["eyes"] and wildcards.scene in pol["scenes"]
-    return {"polarisation": f"results/{wildcards.eye}/{wildcards.scene}/polarisation/polarisation.csv"} if traced else {}
-
-
-# The interactive viewer of one eye in one scene: a self-contained HTML page.
-rule viewer:
-    input:
-        unpack(polarisation_table),
-        receptors="results/eyes/{eye}/receptors.csv",
-        responses="results/{eye}/{scene}/responses.csv",
-        irradiance="results/{eye}/{scene}/irradiance.npz",
-        curves=sensitivity_files,
-    output:
-        viewer=report("results/{eye}/{scene}/" + VIEWER["viewer"], caption="../report/viewer.rst",
-                      category="Interactive viewers", subcategory="{eye} in {scene}"),
-    params:
-        eye=eye_file,
-        receptor_curves=config["colour"]["sensitivities"],
-    log:
-        "results/logs/viewer/{eye}/{scene}.log",
-    script:
-        "../scripts/viewer.py"

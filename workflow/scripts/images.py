@@ -1,5 +1,5 @@
 from beeoptics.vision.receptorset import receptor_set_of
-from beeoptics.pipeline.images import colour_figures, retinal_images, visual_field_maps
+from beeoptics.pipeline.images import colour_figures, retinal_images, viewer, visual_field_maps
 from beeoptics.pipeline.logs import logging_to
 from beeoptics.pipeline.outputs import colour_figures as colour_outputs
 
@@ -16,3 +16,6 @@ with logging_to(snakemake.log[0]):
     colour_figures(snakemake.input.responses, snakemake.input.irradiance,
                    {k: getattr(out, k) for k in colour_outputs(receptor_set)}, receptor_set=receptor_set,
                    title=title, receptor_curves=snakemake.params.receptor_curves)
+    viewer(snakemake.input.receptors, snakemake.input.responses, snakemake.input.irradiance,
+           {"viewer": out.viewer}, receptor_set=receptor_set, polarisation_csv=snakemake.input.get("polarisation"),
+           title=title, receptor_curves=snakemake.params.receptor_curves)
