@@ -3,9 +3,12 @@
 Every spectrum in the tracer lives on one uniform grid, 300–700 nm by
 default (the range of the bee's receptors, Collins eq. 1–3, and of pavo),
 at the step the config sets. Collins used 8 samples; the default here is
-5 nm. Spectra from files or data sets are resampled onto the grid with
-colour-science, by linear interpolation, which cannot overshoot into
-negative reflectance as a spline can near a sharp absorption edge.
+5 nm. Spectra from files or data sets are resampled onto the grid by
+linear interpolation, which cannot overshoot into negative reflectance as
+a spline can near a sharp absorption edge: numpy's ``interp``, which is
+what colour-science's linear interpolator computes (the same values to the
+last bit), without colour-science's import (two seconds, with matplotlib
+and pandas) in every stage that reads a spectrum.
 
 pavo's layout (Maia et al. 2019) is a CSV whose first column is the
 wavelength in nm and whose other columns are one spectrum each; values
@@ -34,7 +37,7 @@ def grid(start_nm=300.0, end_nm=700.0, step_nm=5.0):
 
 
 def resample(wavelengths, values, onto, source="spectrum", field=""):
-    """Resample spectra onto a grid with colour-science.
+    """Resample spectra onto a grid, linearly; ends within :data:`EDGE_TOLERANCE_NM` held at their last value.
 
     Parameters
     ----------
@@ -57,9 +60,6 @@ def resample(wavelengths, values, onto, source="spectrum", field=""):
         If the data stop short of either end of the grid by more than
         :data:`EDGE_TOLERANCE_NM`, or hold NaN.
     """
-    # colour-science takes a second or two to import: only stages that resample spectra pay for it.
-    import colour
-
     wl = np.asarray(wavelengths, float)
     v = np.asarray(values, float)
     if wl[0] - onto[0] > EDGE_TOLERANCE_NM or onto[-1] - wl[-1] > EDGE_TOLERANCE_NM:
@@ -69,18 +69,10 @@ def resample(wavelengths, values, onto, source="spectrum", field=""):
         )
     if np.isnan(v).any():
         raise InputError(source, field, "holds NaN")
+    # Measured spectra often come on uneven grids (ASTM G173: 0.5 nm, then 1 and 5 nm): linear
+    # interpolation takes them as they are; beyond the data, np.interp holds the last value.
     columns = v.reshape(len(wl), -1)
-    step = onto[1] - onto[0] if len(onto) > 1 else 1.0
-    cover = colour.SpectralShape(min(wl[0], onto[0]), max(wl[-1], onto[-1]), 1.0)
-    # Measured spectra often come on uneven grids (ASTM G173: 0.5 nm, then 1 and 5 nm);
-    # linear interpolation takes them as they are, and colour-science's warning that
-    # the grid is uneven would only fill the logs.
-    with colour.utilities.suppress_warnings(colour_runtime_warnings=True):
-        msds = colour.MultiSpectralDistributions(columns, wl, interpolator=colour.LinearInterpolator)
-        # Edges within the tolerance are held at their last measured value.
-        msds.extrapolate(cover, extrapolator_kwargs={"method": "Constant", "left": None, "right": None})
-        msds.interpolate(colour.SpectralShape(onto[0], onto[-1], step), interpolator=colour.LinearInterpolator)
-        out = msds.values.reshape(len(onto), -1)
+    out = np.stack([np.interp(onto, wl, c) for c in columns.T], axis=-1)
     return out.reshape((len(onto),) + v.shape[1:])
 
 

@@ -269,3 +269,38 @@ def test_a_cache_that_cannot_be_written_is_not_used(tmp_path, wavelengths, monke
     monkeypatch.setenv("BEEOPTICS_CACHE", str(blocked / "cache"))
     scene = load_scene(ROOT / "tests" / "data" / "scenes" / "flower" / "scene.yaml", wavelengths)
     assert len(scene.objects) == 2 and not isinstance(scene.objects[1].vertices, np.memmap)
+
+
+def test_a_scenes_light_is_cached_apart_and_comes_back_as_it_was_made(tmp_path, wavelengths, monkeypatch, caplog):
+    from beeoptics.light import scene as scene_module
+    from beeoptics.light import scenecache
+
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
+    made = []
+    make = scene_module._made_light
+    monkeypatch.setattr(scene_module, "_made_light", lambda *a: made.append(a[0]) or make(*a))
+    for name in ("flower", "open"):  # a clear sky with the sun; a uniform sky without it
+        path = ROOT / "tests" / "data" / "scenes" / name / "scene.yaml"
+        first, again = load_scene(path, wavelengths), load_scene(path, wavelengths)
+        for a, b in ((first.sky, again.sky), (first.sun, again.sun)):
+            assert type(a) is type(b)
+            for x, y in zip(a or (), b or ()):
+                assert type(x) is type(y) or isinstance(x, np.ndarray) and x.dtype == y.dtype, (name, x, y)
+                np.testing.assert_array_equal(x, y)
+    assert len(made) == 2, "a light was made again though its section and files were unchanged"
+    # Another light (a sweep's, a flight's, the compass's) is made, then cached as well.
+    flower = ROOT / "tests" / "data" / "scenes" / "flower" / "scene.yaml"
+    hazy = load_scene(flower, wavelengths, light={"turbidity": 6.0})
+    assert len(made) == 3 and not np.array_equal(hazy.sky.basis, load_scene(flower, wavelengths).sky.basis)
+    # Only the materials, for the stages that need no geometry: from the cache, no spectrum read again.
+    monkeypatch.setattr(scene_module, "material", lambda *a: pytest.fail("a material was read again"))
+    light_only = load_scene(flower, wavelengths, geometry=False)
+    assert light_only.objects == [] and len(made) == 3
+    # A broken entry is refused, named, and made again.
+    data = validate(load_yaml(flower), "scene", flower)
+    entry = tmp_path / "cache" / "lights" / f"{scenecache.scene_key(data, flower.parent, wavelengths, ('light',))}.npz"
+    entry.write_bytes(b"broken")
+    with caplog.at_level("WARNING", logger="beeoptics"):
+        load_scene(flower, wavelengths, geometry=False)
+    assert any("unreadable" in r.getMessage() and str(entry) in r.getMessage() for r in caplog.records)
+    assert len(made) == 4

@@ -182,16 +182,16 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=Tru
     base = path.parent
     wl = np.asarray(wavelengths, float)
     names = list(data["materials"])
-    key = scenecache.scene_key(data, base, wl) if geometry and cache else None
+    key = scenecache.scene_key(data, base, wl) if cache else None
     cached = scenecache.read(key) if key else None
     if cached is not None:
-        objects = [SceneObject(**o) for o in cached[0]]
+        objects = [SceneObject(**o) for o in cached[0]] if geometry else []
         mats = [{k: cached[1][k][i] for k in scenecache.MATERIAL_ARRAYS} for i in range(len(names))]
     else:
         mats = [material(data["materials"][n], wl, base, path, n) for n in names]
         objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])] if geometry else []
 
-    sky, sun = _light(data["light"], wl, base, path)
+    sky, sun = _light(data, wl, base, path, cache)
     # An emitting material lights the scene only if some object is made of it.
     used = set()
     for o in objects:
@@ -208,7 +208,7 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=Tru
     head = head_rotation(e["heading_deg"], e["pitch_deg"], e["roll_deg"])
     every = np.vstack([o.vertices for o in objects] + [np.zeros((1, 3))])
     n_wl = len(wl)
-    if key and cached is None:
+    if key and cached is None and geometry:
         scenecache.write(key, objects, {k: np.array([m[k] for m in mats]) for k in scenecache.MATERIAL_ARRAYS}, names)
     return Scene(
         name=data["name"], path=path, objects=objects, material_names=names,
@@ -225,7 +225,29 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=Tru
     )
 
 
-def _light(lt, wl, base, path):
+def _light(data, wl, base, path, cache=True):
+    """The sky and the sun (each None if absent) of a checked scene's ``light`` section, on the grid ``wl``:
+    from the scene cache where it holds them (``cache``), else made and put there."""
+    key = scenecache.scene_key(data, base, wl, ("light",)) if cache else None
+    fields = scenecache.read_light(key) if key else None
+    if fields is None:
+        sky, sun = _made_light(data["light"], wl, base, path)
+        if key:
+            scenecache.write_light(key, {f"{name}_{k}": v for name, part in (("sky", sky), ("sun", sun))
+                                         if part is not None for k, v in part._asdict().items()})
+        return sky, sun
+
+    def stored(name, kind):
+        if f"{name}_{kind._fields[0]}" not in fields:
+            return None
+        values = {k: fields[f"{name}_{k}"] for k in kind._fields}
+        # Scalars come back as numpy's 0-d arrays: as Python's, as the light was made.
+        return kind(**{k: v.item() if v.ndim == 0 else v for k, v in values.items()})
+
+    return stored("sky", Sky), stored("sun", Sun)
+
+
+def _made_light(lt, wl, base, path):
     """The sky and the sun (each None if absent) of a checked ``light`` section, on the grid ``wl``."""
     sky = None
     if lt["sky"] == "uniform":
@@ -269,7 +291,7 @@ def relit(scene, wavelengths, light):
     data = load_yaml(scene.path)
     data.setdefault("light", {}).update(light)
     data = validate(data, "scene", scene.path)
-    sky, sun = _light(data["light"], np.asarray(wavelengths, float), scene.path.parent, scene.path)
+    sky, sun = _light(data, np.asarray(wavelengths, float), scene.path.parent, scene.path)
     return scene._replace(sky=sky, sun=sun)
 
 

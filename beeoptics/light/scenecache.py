@@ -1,5 +1,5 @@
-"""A cache of loaded scenes: their geometry and materials as arrays numpy memory-maps, reused while the
-files that made them are unchanged.
+"""A cache of loaded scenes: their geometry and materials as arrays numpy memory-maps, and their light,
+reused while the files that made them are unchanged.
 
 Loading a generated meadow reads and checks a 40 MB PLY of a million faces
 and looks up FReD's spectra, seconds each time a job starts. A loaded
@@ -10,8 +10,16 @@ key: the SHA-256 of the package's version, the cache's layout, the scene's
 checked ``materials`` and ``objects`` sections, the spectral grid, the
 contents of every file they name (meshes, textures, spectra) and the
 versions of the packages whose data they read (dreye's FReD). A later load
-with the same key maps the arrays instead of reading the files again; the
-light (sky and sun), which sweeps and flights change, is made each time.
+with the same key maps the arrays instead of reading the files again (a
+stage that needs only the materials takes them alone).
+
+The light (sky and sun) is kept apart, since sweeps, flights and the
+compass change it while the geometry stays: each light the scene's
+``light`` section (with its overrides) makes on a grid is a ``.npz`` in
+``lights/``, keyed likewise by that section, the grid and the files it
+names, so that a stage need not compute the daylight again (SPECTRL2
+through pvlib, measured albedos resampled with colour-science: a second or
+two of imports and arithmetic).
 
 The cache lives in ``$BEEOPTICS_CACHE``, else ``$XDG_CACHE_HOME/beeoptics``,
 else ``~/.cache/beeoptics``; a folder that cannot be written is simply not
@@ -41,8 +49,9 @@ log = logging.getLogger("beeoptics")
 LAYOUT = 2
 #: Packages whose installed data a scene's spectra may read.
 DATA_PACKAGES = ("dreye",)
-#: Entries kept: when one more is written, the least recently used beyond these are removed.
+#: Entries kept: when one more is written, the least recently used beyond these are removed (scenes, lights).
 MAX_ENTRIES = 16
+MAX_LIGHTS = 256
 #: The arrays of an object, and those of the materials, as the manifest names them.
 OBJECT_ARRAYS = ("vertices", "faces", "face_material", "texture", "uv")
 MATERIAL_ARRAYS = ("reflectance", "emission", "specular", "exponent", "roughness", "refractive_index")
@@ -56,8 +65,8 @@ def cache_root():
     return Path(base) / "beeoptics"
 
 
-def _named_files(data, base):
-    """Every file the scene's objects and materials name, relative to its folder, in order."""
+def _named_files(data, base, sections=("objects", "materials")):
+    """Every file the scene's ``sections`` name, relative to its folder, in order."""
     files = []
 
     def walk(value):
@@ -71,23 +80,23 @@ def _named_files(data, base):
             for v in value:
                 walk(v)
 
-    walk({"objects": data["objects"], "materials": data["materials"]})
+    walk({k: data[k] for k in sections})
     return files
 
 
-def scene_key(data, base, wavelengths):
-    """The key of a checked scene's geometry and materials on a spectral grid (see the module notes)."""
+def scene_key(data, base, wavelengths, sections=("objects", "materials")):
+    """The key of a checked scene's ``sections`` (its geometry and materials, or its light) on a spectral grid
+    (see the module notes)."""
     h = hashlib.sha256()
-    h.update(f"beeoptics {__version__} layout {LAYOUT}\n".encode())
+    h.update(f"beeoptics {__version__} layout {LAYOUT} {' '.join(sections)}\n".encode())
     for name in DATA_PACKAGES:
         try:
             h.update(f"{name} {version(name)}\n".encode())
         except PackageNotFoundError:
             h.update(f"{name} absent\n".encode())
-    h.update(json.dumps({"objects": data["objects"], "materials": data["materials"]}, sort_keys=True,
-                        default=str).encode())
+    h.update(json.dumps({k: data[k] for k in sections}, sort_keys=True, default=str).encode())
     h.update(np.ascontiguousarray(wavelengths, float).tobytes())
-    for path in _named_files(data, base):
+    for path in _named_files(data, base, sections):
         h.update(str(path.name).encode())
         try:
             with open(path, "rb") as f:
@@ -163,3 +172,41 @@ def _evict(root):
                      key=lambda p: (p / "manifest.json").stat().st_mtime, reverse=True)
     for old in entries[MAX_ENTRIES:]:
         shutil.rmtree(old, ignore_errors=True)
+
+
+def read_light(key):
+    """The cached light of ``key``: a dict of its sky's and sun's fields (``sky_*``, ``sun_*``, each absent where
+    the scene has none), or None."""
+    path = cache_root() / "lights" / f"{key}.npz"
+    try:
+        with np.load(path, allow_pickle=False) as f:
+            light = {k: f[k] for k in f.files}
+        os.utime(path)  # used: the last to be evicted
+        return light
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError) as e:
+        log.warning("cached light %s is unreadable (%s): computing the light", path, e)
+        return None
+
+
+def write_light(key, fields):
+    """Write a light's fields (a dict of arrays, :func:`read_light`'s) as entry ``key``; False if the cache's
+    folder cannot be written."""
+    folder = cache_root() / "lights"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, scratch = tempfile.mkstemp(prefix=f".{key[:12]}-", suffix=".npz", dir=folder)
+    except OSError:
+        return False
+    try:
+        with os.fdopen(fd, "wb") as f:
+            np.savez(f, **{k: np.asarray(v) for k, v in fields.items()})
+        os.replace(scratch, folder / f"{key}.npz")
+    except OSError:
+        Path(scratch).unlink(missing_ok=True)
+        return False
+    old = sorted(folder.glob("*.npz"), key=lambda p: p.stat().st_mtime, reverse=True)[MAX_LIGHTS:]
+    for path in old:
+        path.unlink(missing_ok=True)
+    return True
