@@ -144,12 +144,20 @@ def visual_field(axes, sides, delta_rho_deg, delta_phi_deg, width_px=720):
         mine = np.flatnonzero(sides == side)
         if mine.size == 0:
             continue
-        chord, k = cKDTree(axes[mine]).query(flat)
-        angle = 2.0 * np.arcsin(np.clip(chord / 2.0, 0.0, 1.0))
-        seen = angle <= half_width[mine[k]]
-        # Only directions beyond every axis's half width need the lattice's test.
+        tree = cKDTree(axes[mine])
+        # Most of the sphere lies beyond every axis's half width: the tree looks no further than that,
+        # then finds the nearest axis of the directions the lattice's test adds.
+        chord, k = tree.query(flat, distance_upper_bound=2.0 * np.sin(half_width[mine].max() / 2.0) * (1 + 1e-9))
+        near = np.isfinite(chord)
+        angle = np.full(len(flat), np.inf)
+        angle[near] = 2.0 * np.arcsin(np.clip(chord[near] / 2.0, 0.0, 1.0))
+        seen = near.copy()
+        seen[near] = angle[near] <= half_width[mine[k[near]]]
         rest = np.flatnonzero(~seen)
         seen[rest] = within_lattice(axes[mine], delta_phi_deg[mine], flat[rest])
+        added = rest[seen[rest]]
+        chord[added], k[added] = tree.query(flat[added])
+        angle[added] = 2.0 * np.arcsin(np.clip(chord[added] / 2.0, 0.0, 1.0))
         eyes[seen] |= bit
         nearer = seen & (angle < best)
         receptor[nearer], best[nearer] = mine[k[nearer]], angle[nearer]

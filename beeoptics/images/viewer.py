@@ -106,6 +106,7 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
         Display colours of each receptor's polarisation, a further colouring.
     """
     import plotly.graph_objects as go
+    import plotly.io as pio
     from plotly.subplots import make_subplots
 
     axis = np.asarray(receptors.axis, float)
@@ -127,17 +128,19 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
                         subplot_titles=("the visual field, both eyes (azimuth + to the bee's left)",
                                         "the same on the sphere (drag to turn)",
                                         colour_space["name"] if colour_space else "no colour space for this species"))
-    marker = {"color": hexes[first], "size": MAP_MARKER}
+    # The colours are set after plotly has built the figure, unchecked: it would check each of their
+    # tens of thousands of strings one by one (a second and a half).
+    marker = {"color": "#000000", "size": MAP_MARKER}
     common = dict(customdata=custom, text=eye, hovertemplate=template, showlegend=False,
                   unselected={"marker": {"opacity": UNSELECTED_OPACITY}})
     fig.add_trace(go.Scattergl(x=az, y=el, mode="markers", marker=marker, name="receptors", **common), 1, 1)
     fig.add_trace(go.Scatter3d(x=axis[:, 0], y=axis[:, 1], z=axis[:, 2], mode="markers",
-                               marker={"color": hexes[first], "size": SPHERE_MARKER}, customdata=custom, text=eye,
+                               marker={"color": "#000000", "size": SPHERE_MARKER}, customdata=custom, text=eye,
                                hovertemplate=template, showlegend=False), 2, 1)
     linked = [0]
     if colour_space:
         fig.add_trace(go.Scattergl(x=colour_space["x"], y=colour_space["y"], mode="markers",
-                                   marker={"color": hexes[first], "size": MAP_MARKER}, **common), 2, 2)
+                                   marker={"color": "#000000", "size": MAP_MARKER}, **common), 2, 2)
         linked.append(2)
         outline = np.vstack([colour_space["outline"], colour_space["outline"][:1]])
         fig.add_trace(go.Scatter(x=outline[:, 0], y=outline[:, 1], mode="lines", line={"color": "#888", "width": 1},
@@ -169,7 +172,10 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
                             "n": len(az), "ids": json.dumps(np.asarray(receptors.id).tolist()),
                             "az": json.dumps(np.round(az, 3).tolist()), "el": json.dumps(np.round(el, 3).tolist()),
                             "big": 3 * SPHERE_MARKER}
-    html = fig.to_html(include_plotlyjs=True, full_html=True, post_script=script, div_id=DIV_ID,
+    page = fig.to_plotly_json()
+    for k in (0, 1, *linked[1:]):
+        page["data"][k]["marker"]["color"] = hexes[first]
+    html = pio.to_html(page, validate=False, include_plotlyjs=True, full_html=True, post_script=script, div_id=DIV_ID,
                        config={"displaylogo": False, "responsive": True})
     with atomic_path(path) as tmp:
         tmp.write_text(shared_once(html), encoding="utf-8")
@@ -200,6 +206,7 @@ def flight_viewer(path, receptors, frames, catches, classes, times_s, title, cap
     times_s : ndarray (frames,)
     """
     import plotly.graph_objects as go
+    import plotly.io as pio
 
     axis = np.asarray(receptors.axis, float)
     az, el = eye_azimuth_elevation(axis, LEFT)  # head-frame azimuth, + to the bee's left, as the maps run
@@ -211,10 +218,11 @@ def flight_viewer(path, receptors, frames, catches, classes, times_s, title, cap
                 + "<br>".join(f"{c} ÷ white's %{{customdata[{k + 3}]:.3g}}" for k, c in enumerate(classes))
                 + "<extra></extra>")
     colours = [_hex(f) for f in frames]
-    fig = go.Figure(go.Scattergl(x=az, y=el, mode="markers", marker={"color": colours[0], "size": MAP_MARKER},
+    # The colours are set after plotly has built the figure, unchecked, as in receptor_viewer.
+    fig = go.Figure(go.Scattergl(x=az, y=el, mode="markers", marker={"color": "#000000", "size": MAP_MARKER},
                                  customdata=custom[0], text=eye, hovertemplate=template, showlegend=False))
-    fig.frames = [go.Frame(data=[{"marker": {"color": c}, "customdata": d}], name=str(k))
-                  for k, (c, d) in enumerate(zip(colours, custom))]
+    fig.frames = [go.Frame(data=[{"marker": {"color": "#000000"}, "customdata": d}], name=str(k))
+                  for k, d in enumerate(custom)]
     steps = [{"label": f"{t:.2f} s", "method": "animate",
               "args": [[str(k)], {"mode": "immediate", "frame": {"duration": 0, "redraw": True},
                                   "transition": {"duration": 0}}]} for k, t in enumerate(times_s)]
@@ -231,6 +239,10 @@ def flight_viewer(path, receptors, frames, catches, classes, times_s, title, cap
                                     "yref": "paper", "x": 0.0, "y": -0.3, "showarrow": False, "align": "left",
                                     "font": {"size": 11}}],
         margin={"b": 170}, meta={"receptors": len(az), "frames": len(colours)})
+    page = fig.to_plotly_json()
+    page["data"][0]["marker"]["color"] = colours[0]
+    for frame, c in zip(page["frames"], colours):
+        frame["data"][0]["marker"]["color"] = c
     with atomic_path(path) as tmp:
-        fig.write_html(tmp, include_plotlyjs=True, full_html=True, auto_play=False, post_script=FLIGHT_SCRIPT,
-                       div_id=DIV_ID, config={"displaylogo": False, "responsive": True})
+        pio.write_html(page, tmp, validate=False, include_plotlyjs=True, full_html=True, auto_play=False,
+                       post_script=FLIGHT_SCRIPT, div_id=DIV_ID, config={"displaylogo": False, "responsive": True})

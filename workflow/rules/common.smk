@@ -51,6 +51,12 @@ wildcard_constraints:
     parts="[0-9]+",
 
 
+#: Threads of the jobs that trace rays, each a batch of rays at a time (beeoptics.light.batching). One: Open3D
+#: casts each batch on every core by itself, and two such jobs side by side keep a machine's cores busier than
+#: one job's two batches (on this project's two cores, two meadow traces at once take 12.5 s against 17.3 s one
+#: after the other). On a cluster each job has its node's cores: profiles/slurm sets their threads.
+TRACING_THREADS = 1
+
 # The trace settings jobs trace with. `parts` only splits a trace into jobs (its results are
 # bit-identical), so it is left out: changing it reruns the trace's shares, not what reads them.
 TRACE = {k: v for k, v in config["trace"].items() if k != "parts"}

@@ -21,7 +21,7 @@ rule detection_survey:
         receptor_curves=config["colour"]["sensitivities"],
     log:
         "results/logs/detection/{scene}/{eye}.log",
-    threads: 8
+    threads: TRACING_THREADS
     resources:
         mem_mb=4000,
         runtime=60,

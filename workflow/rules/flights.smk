@@ -39,7 +39,7 @@ rule flight_frames:
         target=lambda w: config["flights"][w.flight].get("target"),
     log:
         "results/logs/flights/{flight}/{eye}/{first}.log",
-    threads: 8
+    threads: TRACING_THREADS
     resources:
         mem_mb=4000,
         runtime=60,
@@ -64,7 +64,7 @@ rule flight_human_frames:
         frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
     log:
         "results/logs/flights/{flight}/human/{first}.log",
-    threads: 8
+    threads: TRACING_THREADS
     resources:
         mem_mb=4000,
         runtime=30,
@@ -148,7 +148,7 @@ rule flight_views:
         receptor_curves=config["colour"]["sensitivities"],
     log:
         "results/logs/flights/{flight}/{eye}/views.log",
-    threads: 8
+    threads: TRACING_THREADS
     resources:
         mem_mb=4000,
         runtime=60,

@@ -22,7 +22,7 @@ rule polarisation_maps:
         receptor_curves=config["colour"]["sensitivities"],
     log:
         "results/logs/polarisation_maps/{eye}/{scene}.log",
-    threads: 8
+    threads: TRACING_THREADS
     resources:
         mem_mb=4000,
     script:

@@ -14,8 +14,7 @@ rule trace:
         light={},
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
-    # One batch of rays per thread (beeoptics.light.batching); Snakemake caps this at --cores.
-    threads: 8
+    threads: TRACING_THREADS
     resources:
         mem_mb=4000,
         runtime=60,
@@ -60,8 +59,7 @@ rule human_view:
         samples_per_pixel=config["human_view"]["samples_per_pixel"],
     log:
         "results/logs/human_view/{scene}.log",
-    # One batch of rays per thread (beeoptics.light.batching); Snakemake caps this at --cores.
-    threads: 8
+    threads: TRACING_THREADS
     resources:
         mem_mb=4000,
     script:
