@@ -336,18 +336,39 @@ def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):
     human : ndarray (H, W, 3) or None
         The human pinhole render.
     """
-    save(_visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 5.2), path)
+    save(_visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 5.2)[0], path)
 
 
-def visual_field_frame(panels, eyes, azimuth_deg, elevation_deg, human, title):
-    """:func:`visual_field` as an RGB image (h, w, 3) of uint8, a frame of an animation."""
-    fig = _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 3.6)
-    canvas = FigureCanvasAgg(fig)
-    canvas.draw()
-    return np.asarray(canvas.buffer_rgba())[..., :3].copy()
+def visual_field_frames(frames, eyes, azimuth_deg, elevation_deg):
+    """:func:`visual_field` as RGB images (h, w, 3) of uint8, the frames of an animation, one for each of
+    ``frames`` (panels, human, title: as :func:`visual_field` takes them), yielded in turn.
+
+    One figure draws them all: laid out for the first frame, then redrawn
+    with each frame's maps, human view and title (laying a figure out is
+    most of its drawing, and every frame's layout is the first's).
+    """
+    fig = canvas = None
+    for panels, human, title in frames:
+        shown = [np.nan_to_num(rgb, nan=0.35) for rgb in panels.values()] + ([] if human is None else [human])
+        if fig is None:
+            fig, heading = _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 3.6)
+            canvas = FigureCanvasAgg(fig)
+            canvas.draw()
+            fig.set_layout_engine("none")
+        else:
+            for ax, image in zip(fig.axes, shown):
+                ax.images[0].set_data(image)
+            heading.set_text(_field_title(title))
+            canvas.draw()
+        yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
+
+
+def _field_title(title):
+    return title + " — white outline: binocular overlap; grey: not seen"
 
 
 def _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, panel_width_in):
+    """The figure of :func:`visual_field`, and its title's text."""
     n = len(panels) + (human is not None)
     fig = Figure(figsize=(panel_width_in * n, panel_width_in * 0.73), layout="constrained", dpi=100)
     axes = fig.subplots(1, n)
@@ -364,8 +385,7 @@ def _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title,
         axes[-1].imshow(human)
         axes[-1].set_axis_off()
         axes[-1].set_title("human view (CIE 1931, sRGB)", fontsize=9)
-    fig.suptitle(title + " — white outline: binocular overlap; grey: not seen", fontsize=10)
-    return fig
+    return fig, fig.suptitle(_field_title(title), fontsize=10)
 
 
 def optic_flow(azimuth_deg, elevation_deg, flow_deg_s, path, title):

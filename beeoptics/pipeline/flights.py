@@ -181,19 +181,20 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
                             "receptors": int(on.sum()),
                             **{f"{r}_relative": float(relative[on, j].mean()) if on.any() else np.nan
                                for j, r in enumerate(receptor_set.classes)}})
-        panels = {"bee colours (map3)": np.where(seen[..., None], encode(paint(field.receptor, colours)), np.nan),
-                  f"{receptor_set.classes[shortest]} catch over white's":
-                      np.repeat(np.clip(paint(field.receptor, relative[:, shortest:shortest + 1]), 0.0, 1.0), 3, -1)}
-        frames.append(figures.visual_field_frame(panels, field.eyes, field.azimuth_deg, field.elevation_deg,
-                                                 human,
-                                                 f"{title}, t = {float(g['time_s']):.2f} s"))
+        frames.append((colours, relative[:, shortest:shortest + 1], human, f"{title}, t = {float(g['time_s']):.2f} s"))
     write_table(outputs["responses"], {c: np.concatenate([r[c] for r in responses]) for c in responses[0]})
     write_table(outputs["optic_flow"], {c: np.concatenate([f[c] for f in flows]) for c in flows[0]})
     if targets:
         write_table(outputs["target"], {c: np.array([t[c] for t in targets]) for c in targets[0]})
     else:
         write_table(outputs["target"], {"frame": np.arange(len(frames))})
-    write_gif(outputs["animation"], frames, fps)
+    # The maps of each frame made as the animation draws it, not held for every frame at once.
+    maps = (({"bee colours (map3)": np.where(seen[..., None], encode(paint(field.receptor, colours)), np.nan),
+              f"{receptor_set.classes[shortest]} catch over white's":
+                  np.repeat(np.clip(paint(field.receptor, short), 0.0, 1.0), 3, -1)}, human, frame_title)
+            for colours, short, human, frame_title in frames)
+    write_gif(outputs["animation"], list(figures.visual_field_frames(maps, field.eyes, field.azimuth_deg,
+                                                                     field.elevation_deg)), fps)
     middle = flows[len(flows) // 2]
     figures.optic_flow(az, el, np.column_stack([middle["flow_azimuth_deg_s"], middle["flow_elevation_deg_s"]]),
                        outputs["flow_figure"], f"{title}: optic flow at t = {middle['t_s'][0]:.2f} s "

@@ -11,6 +11,8 @@ IEC 61966-2-1:1999 Multimedia systems and equipment – Colour measurement
 and management – Part 2-1: Default RGB colour space – sRGB.
 """
 
+from functools import cache
+
 import numpy as np
 
 #: The CIE 1931 2° standard observer, 360–830 nm, as colour-science names it.
@@ -24,15 +26,24 @@ def tristimulus(wavelengths_nm, radiance):
     colour-science; below their first wavelength (360 nm) they are zero,
     since light there is invisible to people.
     """
+    wl = np.asarray(wavelengths_nm, float)
+    step = float(wl[1] - wl[0])
+    return np.asarray(radiance) @ _cmfs(float(wl[0]), float(wl[-1]), step) * step
+
+
+@cache
+def _cmfs(start_nm, end_nm, step_nm):
+    """The colour-matching functions on a grid, (n_wl, 3): aligned once per grid, as every frame of a
+    flight needs them."""
     # colour-science is imported where used: it takes a second (matplotlib with it), which stages
     # that show nothing to people need not pay.
     import colour
 
-    wl = np.asarray(wavelengths_nm, float)
-    step = float(wl[1] - wl[0])
-    shape = colour.SpectralShape(wl[0], wl[-1], step)
-    cmfs = colour.MSDS_CMFS[OBSERVER].copy().align(shape, extrapolator_kwargs={"method": "Constant", "left": 0, "right": 0})
-    return np.asarray(radiance) @ cmfs.values * step
+    shape = colour.SpectralShape(start_nm, end_nm, step_nm)
+    values = colour.MSDS_CMFS[OBSERVER].copy().align(shape, extrapolator_kwargs={"method": "Constant", "left": 0,
+                                                                                 "right": 0}).values
+    values.flags.writeable = False
+    return values
 
 
 def srgb(xyz, white_luminance):
