@@ -175,6 +175,13 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=
         hidden = np.isfinite(first_hits(rs, np.hstack([origins, axes]).astype(np.float32))["t_hit"])
         return estimate, confidence, truth, hidden.reshape(headings, n).mean(axis=1)
 
+    def traced_alike(scene):
+        """What a condition is traced as: its light and, among objects, the bee's place (in the open, or a
+        scene of none, anywhere). The sky scene's conditions in the scene and the meadow's own turbidity
+        are traced once."""
+        light = b"".join(np.asarray(v).tobytes() for part in (scene.sky, scene.sun) for v in part)
+        return light + (scene.eye_position.tobytes() if scene.objects else b"open")
+
     # The same light with nothing to hide it.
     rayleigh = relit(base, wl, {"polarisation": "rayleigh"})._replace(objects=[])
     conditions = [("Rayleigh sky, open", np.nan, rayleigh), ("clear sky, open", np.nan, base._replace(objects=[])),
@@ -184,10 +191,12 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=
     conditions += [(f"turbidity {t:g}, in the scene", t, relit(base, wl, {"turbidity": t})) for t in turbidities]
     rows = {k: [] for k in ("condition", "turbidity", "max_degree", "heading_deg", "solar_azimuth_deg",
                             "estimate_deg", "error_deg", "confidence", "sky_hidden")}
-    summary = {}
+    summary, read_before = {}, {}
     for name, turbidity, scene in conditions:
         log.info("compass: %s", name)
-        estimate, confidence, truth, hidden = read(scene)
+        key = traced_alike(scene)
+        read_before[key] = read_before[key] if key in read_before else read(scene)
+        estimate, confidence, truth, hidden = read_before[key]
         error = sky_compass.wrap_deg(estimate - truth)
         rows["condition"] += [name] * headings
         rows["turbidity"] += [turbidity] * headings

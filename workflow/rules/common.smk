@@ -57,6 +57,11 @@ wildcard_constraints:
 #: after the other). On a cluster each job has its node's cores: profiles/slurm sets their threads.
 TRACING_THREADS = 1
 
+#: Priorities: of the jobs ready to run, Snakemake starts those of higher priority first. Jobs that begin long
+#: chains (an eye's, a meadow's) come first, then those whose products other jobs wait for, so that a run's last
+#: minute is not one job on one core while the others idle.
+STARTS_CHAINS, AWAITED = 2, 1
+
 # The trace settings jobs trace with. `parts` only splits a trace into jobs (its results are
 # bit-identical), so it is left out: changing it reruns the trace's shares, not what reads them.
 TRACE = {k: v for k, v in config["trace"].items() if k != "parts"}

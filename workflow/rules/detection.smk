@@ -19,6 +19,7 @@ rule detection_survey:
                "depth": config["detection"]["depth"]},
         survey=config["detection"],
         receptor_curves=config["colour"]["sensitivities"],
+    priority: AWAITED
     log:
         "results/logs/detection/{scene}/{eye}.log",
     threads: TRACING_THREADS

@@ -11,6 +11,7 @@ rule remesh:
     params:
         eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
         edge_fraction=config["eye"]["edge_fraction"],
+    priority: STARTS_CHAINS
     log:
         "results/logs/remesh/{eye}.log",
     resources:
@@ -31,6 +32,7 @@ rule facets:
         eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
         tolerance_um=config["eye"]["tolerance_um"],
         delta_rho=config["eye"]["delta_rho"],
+    priority: STARTS_CHAINS
     log:
         "results/logs/facets/{eye}.log",
     resources:

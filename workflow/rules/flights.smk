@@ -37,6 +37,7 @@ rule flight_frames:
         fps=lambda w: config["flights"][w.flight]["fps"],
         frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
         target=lambda w: config["flights"][w.flight].get("target"),
+    priority: AWAITED
     log:
         "results/logs/flights/{flight}/{eye}/{first}.log",
     threads: TRACING_THREADS
@@ -62,6 +63,7 @@ rule flight_human_frames:
         view=lambda w: config["flights"][w.flight]["human_view"],
         fps=lambda w: config["flights"][w.flight]["fps"],
         frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
+    priority: AWAITED
     log:
         "results/logs/flights/{flight}/human/{first}.log",
     threads: TRACING_THREADS

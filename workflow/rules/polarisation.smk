@@ -20,6 +20,7 @@ rule polarisation_maps:
         polarisation=config["polarisation"],
         images=config["images"],
         receptor_curves=config["colour"]["sensitivities"],
+    priority: AWAITED
     log:
         "results/logs/polarisation_maps/{eye}/{scene}.log",
     threads: TRACING_THREADS

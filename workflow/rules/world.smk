@@ -8,6 +8,7 @@ rule meadow:
     output:
         mesh=SCENES_DIR / "{scene}" / MEADOW_MESH,
         flowers=SCENES_DIR / "{scene}" / MEADOW_FLOWERS,
+    priority: STARTS_CHAINS
     log:
         "results/logs/meadow/{scene}.log",
     resources:
