@@ -265,25 +265,63 @@ def _arrow(ax, start, direction, length, label):
                 va="bottom" if dy > 0.3 else "top" if dy < -0.3 else "center")
 
 
-def retina(image, extents, anterior, dorsal, path, title, caption, colourbar_label=None):
-    """Both eyes' retinal images side by side, in millimetres, with their orientation and exposure.
+def retinas(images, extents, anterior, dorsal):
+    """Both eyes' retinal images side by side, in millimetres, with their orientation and exposure: a figure
+    for each of ``images``, written to its path.
+
+    Figures of one kind (colour, or one channel with its colour bar) are laid
+    out alike: one figure of each kind is laid out for the first of its
+    images, then redrawn with each next image, title and caption (laying a
+    figure out is most of its drawing).
 
     Parameters
     ----------
-    image : ndarray (h, 2w, 3) or (h, 2w)
-        Display values in [0, 1], the left eye in the left half; NaN
-        outside the eyes, shown as the light grey surround, so that a
-        receptor that caught nothing (black) stands apart from it.
+    images : iterable of (image, path, title, caption, colourbar_label)
+        ``image`` (h, 2w, 3) or (h, 2w): display values in [0, 1], the left
+        eye in the left half; NaN outside the eyes, shown as the light grey
+        surround, so that a receptor that caught nothing (black) stands
+        apart from it. ``caption``: the exposure, what maps catches to grey
+        levels. ``colourbar_label``: for a single channel (drawn in grey, 0
+        black to 1 white), the label of its colour bar, else None.
     extents : pair of (x0, x1, y_bottom, y_top)
         Each half's extent in the retinal plane, mm; the right eye's runs
         from larger to smaller x, since it is shown mirrored.
     anterior, dorsal : array_like (2,)
         The head's anterior and dorsal directions in the retinal plane.
-    caption : str
-        The exposure: what maps catches to grey levels.
-    colourbar_label : str, optional
-        For a single channel (drawn in grey, 0 black to 1 white), the label of its colour bar.
     """
+    drawn = {}
+    for image, path, title, caption, colourbar_label in images:
+        kind = (image.ndim, colourbar_label)
+        if kind not in drawn:
+            drawn[kind] = _retina_figure(image, extents, anterior, dorsal, title, caption, colourbar_label)
+            save(drawn[kind][0], path)
+            drawn[kind][0].set_layout_engine("none")
+            continue
+        fig, shown, heading, note, width = drawn[kind]
+        for artist, half in zip(shown, _halves(image)):
+            artist.set_data(half)
+        heading.set_text(title)
+        note.set_text(_caption(caption, width))
+        save(fig, path)
+
+
+def _halves(image):
+    """The left and right eyes' halves of a retinal image, as imshow takes them: a channel masked where NaN,
+    colours with an alpha channel that is zero there."""
+    w = image.shape[1] // 2
+    for half in (image[:, :w], image[:, w:]):
+        yield np.ma.masked_invalid(half) if half.ndim == 2 else np.dstack([np.nan_to_num(half),
+                                                                           np.isfinite(half).all(-1)])
+
+
+def _caption(caption, width):
+    # About 18 characters of 7-point text to the inch.
+    return textwrap.fill(caption, int(18 * width))
+
+
+def _retina_figure(image, extents, anterior, dorsal, title, caption, colourbar_label):
+    """A figure of :func:`retinas`, with what changes from image to image: the two images' artists, the
+    title's and the caption's texts, and the figure's width, inches."""
     x0, x1, y0, y1 = extents[0]
     # Panels as wide as the eyes are, so that a tall eye does not leave the figure empty.
     aspect = min(max(abs(x1 - x0) / abs(y1 - y0), 0.4), 1.6)
@@ -292,15 +330,11 @@ def retina(image, extents, anterior, dorsal, path, title, caption, colourbar_lab
     # The bottom strip is kept for the caption, which the layout engine would not always clear.
     fig.get_layout_engine().set(rect=(0.0, 0.1, 1.0, 0.9))
     axes = fig.subplots(1, 2, sharey=True)
-    w = image.shape[1] // 2
-    for ax, half, extent, name in zip(axes, (image[:, :w], image[:, w:]), extents, ("left eye", "right eye")):
+    shown = []
+    for ax, half, extent, name in zip(axes, _halves(image), extents, ("left eye", "right eye")):
         ax.set_facecolor("0.85")
-        if half.ndim == 2:
-            shown = ax.imshow(np.ma.masked_invalid(half), extent=extent, cmap="gray", vmin=0.0, vmax=1.0,
-                              interpolation="nearest")
-        else:
-            rgba = np.dstack([np.nan_to_num(half), np.isfinite(half).all(-1)])
-            ax.imshow(rgba, extent=extent, interpolation="nearest")
+        grey = dict(cmap="gray", vmin=0.0, vmax=1.0) if half.ndim == 2 else {}
+        shown.append(ax.imshow(half, extent=extent, interpolation="nearest", **grey))
         ax.set_xlim(extent[0], extent[1])
         ax.set_aspect("equal")
         ax.set_title(name, fontsize=9)
@@ -314,11 +348,10 @@ def retina(image, extents, anterior, dorsal, path, title, caption, colourbar_lab
         _arrow(ax, start, anterior, length, "anterior")
     axes[0].set_ylabel("retinal plane, mm")
     if colourbar_label is not None:
-        fig.colorbar(shown, ax=axes, label=colourbar_label, shrink=0.7)
-    fig.suptitle(title, fontsize=10)
-    # About 18 characters of 7-point text to the inch.
-    fig.text(0.5, 0.01, textwrap.fill(caption, int(18 * width)), ha="center", va="bottom", fontsize=7)
-    save(fig, path)
+        fig.colorbar(shown[-1], ax=axes, label=colourbar_label, shrink=0.7)
+    heading = fig.suptitle(title, fontsize=10)
+    note = fig.text(0.5, 0.01, _caption(caption, width), ha="center", va="bottom", fontsize=7)
+    return fig, shown, heading, note, width
 
 
 def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):

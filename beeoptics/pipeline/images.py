@@ -79,10 +79,9 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
         shown[channel(name)] = np.clip(paint(shows, relative[:, k])[..., 0], 0.0, 1.0)
         captions[channel(name)] = (f"{name} receptor catch over a white surface's under the scene's light, linear, "
                                    "0 black, 1 white, above 1 clipped.")
-    for name, image in shown.items():
-        figures.retina(image, extents, anterior, dorsal, outputs[name], f"{title}: {name.replace('_', ' ')}",
-                       f"{captions[name]} {_SURROUND}",
-                       "catch ÷ white's catch" if image.ndim == 2 else None)
+    figures.retinas([(image, outputs[name], f"{title}: {name.replace('_', ' ')}", f"{captions[name]} {_SURROUND}",
+                      "catch ÷ white's catch" if image.ndim == 2 else None) for name, image in shown.items()],
+                    extents, anterior, dorsal)
     write_exr(outputs["exr"], np.nan_to_num(paint(shows, catches), nan=0.0), receptor_set.classes)
 
 

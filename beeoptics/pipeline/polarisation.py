@@ -113,8 +113,9 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
     xy = retinal_plane(eye, table.position, table.side)
     can = canvas(xy, width_px)
     anterior, dorsal = in_eye_plane(eye.rotation)
-    figures.retina(paint(nearest_receptor(can, xy, table.side), colours), panel_extents(can), anterior, dorsal, outputs["retina"],
-                   f"{title}: polarisation in the retinal plane", POLARISATION_CAPTION)
+    figures.retinas([(paint(nearest_receptor(can, xy, table.side), colours), outputs["retina"],
+                      f"{title}: polarisation in the retinal plane", POLARISATION_CAPTION, None)],
+                    panel_extents(can), anterior, dorsal)
     axes = table.axis[rim]
     figures.dorsal_rim(np.degrees(np.arctan2(axes[:, 1], axes[:, 0])), np.degrees(np.arcsin(axes[:, 2])),
                        table.microvilli_deg[rim], pol[rim], outputs["dorsal_rim"],
