@@ -81,6 +81,11 @@ ORIENTATION = [{"text": text, "x": x, "y": y, "xref": "x", "yref": "y", "showarr
                                   ("behind", -170, -84), ("dorsal", 0, 86))]
 
 
+#: The same on the globe: (label, azimuth, elevation), degrees.
+GLOBE_ORIENTATION = (("ahead", 0, 0), ("left", 60, 0), ("right", -60, 0), ("behind", 180, 0), ("dorsal", 0, 75),
+                     ("ventral", 0, -75))
+
+
 def _hex(rgb):
     """Display sRGB in [0, 1] (n, 3), NaN grey, as "#rrggbb" strings."""
     v = np.rint(np.clip(np.nan_to_num(np.asarray(rgb, float), nan=0.35), 0.0, 1.0) * 255).astype(int)
@@ -123,10 +128,10 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
     template = ("receptor %{customdata[0]:.0f}, %{text} eye<br>azimuth %{customdata[1]:.1f}°, "
                 "elevation %{customdata[2]:.1f}°<br>"
                 + "<br>".join(f"{k} %{{customdata[{i + 3}]:.4g}}" for i, k in enumerate(labels)) + "<extra></extra>")
-    specs = [[{"type": "xy", "colspan": 2}, None], [{"type": "scene"}, {"type": "xy"}]]
+    specs = [[{"type": "xy", "colspan": 2}, None], [{"type": "geo"}, {"type": "xy"}]]
     fig = make_subplots(rows=2, cols=2, specs=specs, row_heights=[0.55, 0.45], vertical_spacing=0.08,
                         subplot_titles=("the visual field, both eyes (azimuth + to the bee's left)",
-                                        "the same on the sphere (drag to turn)",
+                                        "the same on the sphere, as from its centre (drag to turn)",
                                         colour_space["name"] if colour_space else "no colour space for this species"))
     # The colours are set after plotly has built the figure, unchecked: it would check each of their
     # tens of thousands of strings one by one (a second and a half).
@@ -134,9 +139,15 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
     common = dict(customdata=custom, text=eye, hovertemplate=template, showlegend=False,
                   unselected={"marker": {"opacity": UNSELECTED_OPACITY}})
     fig.add_trace(go.Scattergl(x=az, y=el, mode="markers", marker=marker, name="receptors", **common), 1, 1)
-    fig.add_trace(go.Scatter3d(x=axis[:, 0], y=axis[:, 1], z=axis[:, 2], mode="markers",
-                               marker={"color": "#000000", "size": SPHERE_MARKER}, customdata=custom, text=eye,
-                               hovertemplate=template, showlegend=False), 2, 1)
+    # The sphere is a globe in orthographic projection (drawn as SVG: a WebGL 3-D scene took Chromium a
+    # second more to draw), its longitude the azimuth's mirror, so that the globe seen from outside shows
+    # each hemisphere as the bee, at its centre, sees it: left on the left, as on the map.
+    fig.add_trace(go.Scattergeo(lon=-az, lat=el, mode="markers", marker={"color": "#000000", "size": SPHERE_MARKER},
+                                customdata=custom, text=eye, hovertemplate=template, showlegend=False), 2, 1)
+    fig.update_geos(projection={"type": "orthographic", "rotation": {"lon": 0, "lat": 0}}, showland=False,
+                    showocean=False, showlakes=False, showrivers=False, showcountries=False, showcoastlines=False,
+                    showframe=True, bgcolor="white", lonaxis={"showgrid": True, "dtick": 30, "gridcolor": "#ccc"},
+                    lataxis={"showgrid": True, "dtick": 30, "gridcolor": "#ccc"})
     linked = [0]
     if colour_space:
         fig.add_trace(go.Scattergl(x=colour_space["x"], y=colour_space["y"], mode="markers",
@@ -151,6 +162,10 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
         fig.update_xaxes(scaleanchor="y3", row=2, col=2)
         fig.update_xaxes(range=[-1.1, 1.1], row=2, col=2)
         fig.update_yaxes(range=[-1.1, 1.1], row=2, col=2)
+    # The head's directions on the globe: on the equator and at the zenith (longitude the azimuth's mirror).
+    names, azimuths, elevations = zip(*GLOBE_ORIENTATION)
+    fig.add_trace(go.Scattergeo(lon=-np.array(azimuths), lat=elevations, text=names, mode="text", hoverinfo="skip",
+                                showlegend=False, textfont={"size": 12, "color": "#333"}), 2, 1)
     buttons = [{"label": k, "method": "skip"} for k in hexes]
     fig.update_layout(
         title={"text": title, "x": 0.01, "y": 0.985}, height=1000, width=1300, dragmode="select",
@@ -162,8 +177,6 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
                       "y": -0.1, "yanchor": "top", "showarrow": False, "align": "left", "font": {"size": 11}},
                      {"text": "colour by:", "xref": "paper", "yref": "paper", "x": 0.0, "y": 1.045,
                       "showarrow": False, "xanchor": "left", "yanchor": "bottom"}],
-        scene={"xaxis_title": "x, anterior", "yaxis_title": "y, left", "zaxis_title": "z, dorsal",
-               "aspectmode": "cube"},
         legend={"x": 0.55, "y": -0.02, "yanchor": "top"})
     fig.update_xaxes(range=[180, -180], title_text="azimuth, °", tickvals=list(range(-180, 181, 45)), row=1, col=1)
     fig.update_yaxes(range=[-90, 90], title_text="elevation, °", tickvals=list(range(-90, 91, 30)), row=1, col=1)
