@@ -89,7 +89,7 @@ GLOBE_ORIENTATION = (("ahead", 0, 0), ("left", 60, 0), ("right", -60, 0), ("behi
 def _hex(rgb):
     """Display sRGB in [0, 1] (n, 3), NaN grey, as "#rrggbb" strings."""
     v = np.rint(np.clip(np.nan_to_num(np.asarray(rgb, float), nan=0.35), 0.0, 1.0) * 255).astype(int)
-    return ["#%02x%02x%02x" % tuple(c) for c in v]
+    return [f"#{c:06x}" for c in (v[:, 0] << 16 | v[:, 1] << 8 | v[:, 2]).tolist()]
 
 
 def receptor_viewer(path, receptors, colours, hover, title, caption, colour_space=None, polarisation=None):
