@@ -144,7 +144,8 @@ def workdir(tmp_path_factory):
         "detection": {"eyes": ["tiny"], "scenes": ["generated"], "flowers_per_species": 1, "directions": 2,
                       "distances": {"steps": 4}, "samples_per_receptor": 4, "depth": 1},
         "polarisation": {"eyes": ["tiny"], "scenes": ["flower"], "samples_per_receptor": 8,
-                         "compass": {"headings": 8, "turbidities": [5], "heights_m": [0.02]}},
+                         "compass": {"headings": 8, "samples_per_receptor": 8, "turbidities": [5],
+                                     "heights_m": [0.02]}},
     }
     (work / "config.yaml").write_text(yaml.safe_dump(config))
     # The workflow's own files (report captions) are found beside its Snakefile.

@@ -95,3 +95,21 @@ def test_the_albedo_table_is_fresnels_in_the_smooth_limit_and_falls_with_roughne
 def test_a_bad_coating_is_named(tmp_path, wavelengths, coat, field):
     with pytest.raises(InputError, match=field.replace(".", r"\.")):
         scene_file(tmp_path, wavelengths, UNIFORM, {"wax": {"reflectance": 0.2, "coating": coat}}, [ground("wax")])
+
+
+def test_a_reflectance_measured_whole_is_what_the_coated_surface_reflects_at_normal_incidence(tmp_path, wavelengths):
+    """A leaf's spectrum holds its cuticle's reflection (in_reflectance): under a uniform sky, seen from above,
+    the coated surface returns the measured reflectance (its directional albedo at normal incidence, by
+    reciprocity), the coating's reflection not counted twice; taken as the base's, it returns more."""
+    rho = 0.3
+    measured = {"roughness": 0.35, "refractive_index": 1.32}
+    radiance = {}
+    for whole in (True, False):
+        scene = scene_file(tmp_path / str(whole), wavelengths, UNIFORM,
+                           {"leaf": {"reflectance": rho, "coating": {**measured, "in_reflectance": whole}}},
+                           [ground("leaf")])
+        radiance[whole] = traced(scene, looking_down([0.0]), None, samples=16384).mean()
+    reflected = 1.0 - coating.through(1.0, coating.albedo_table(0.35, 1.32))
+    assert 0.015 < reflected < 0.03  # about Fresnel's ((η − 1)/(η + 1))² = 0.019
+    np.testing.assert_allclose(radiance[True], rho, rtol=0.005)
+    np.testing.assert_allclose(radiance[False], reflected + rho * (1.0 - reflected), rtol=0.005)

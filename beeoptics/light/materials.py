@@ -43,7 +43,15 @@ reflectance, plus one of two surface reflections:
   coated diffuse): GGX microfacets of roughness α (0 < α ≤ 1), whose
   reflection follows Fresnel's equations for η in strength and in
   polarisation, the light it does not reflect passed to the base. What
-  water, a waxy cuticle or a glossy petal is.
+  water, a waxy cuticle or a glossy petal is. A spectrum measured from
+  the whole surface (a spectrometer's reflectance of a leaf holds its
+  cuticle's reflection) says so, ``in_reflectance: true``: the base is
+  then what the coating leaves of it at normal incidence,
+  ρ_base = (ρ − E(1)) / (1 − E(1)), E the coating's directional albedo
+  (Kelemen & Szirmay-Kalos's coupling, whose albedo at incidence μ is
+  E(μ) + ρ_base (1 − E(μ)), inverted), so that the coated surface
+  reflects the measured spectrum there and its reflection is not counted
+  twice.
 - ``gloss``: a normalised Phong lobe (Lafortune & Willems 1994) of
   spectrally flat albedo ``ks``, whatever the angle: an empirical sheen,
   kept for the scenes that use it. η sets only how it polarises (Fresnel's
@@ -76,6 +84,7 @@ import numpy as np
 
 from beeoptics.light import daylightrecords, fred
 from beeoptics.io.errors import InputError
+from beeoptics.light.coating import albedo_table, through
 from beeoptics.light.sky import cie_daylight
 from beeoptics.spectra import read_pavo_csv
 
@@ -170,13 +179,20 @@ def material(spec, wavelengths, base_dir, source, name):
         raise InputError(source, f"{field}.emission", "emission must be non-negative")
     surface = "coating" if "coating" in spec else "gloss"
     coat = spec.get("coating", {})
-    if not isinstance(coat, dict) or set(coat) - {"roughness", "refractive_index"}:
-        raise InputError(source, f"{field}.coating", "a coating is {roughness: α, refractive_index: η}")
+    if not isinstance(coat, dict) or set(coat) - {"roughness", "refractive_index", "in_reflectance"}:
+        raise InputError(source, f"{field}.coating", "a coating is {roughness: α, refractive_index: η, "
+                         "in_reflectance: true or false}")
     alpha = coat.get("roughness", 0.0) if "coating" in spec else 0.0
     if "coating" in spec and (not isinstance(alpha, (int, float)) or not 0.0 < alpha <= 1.0):
         raise InputError(source, f"{field}.coating.roughness", "a coating's roughness α must be a number in (0, 1]")
     n = (coat if "coating" in spec else gloss).get("refractive_index", CUTICLE_REFRACTIVE_INDEX)
     if not isinstance(n, (int, float)) or not 1.0 <= n <= 4.0:
         raise InputError(source, f"{field}.{surface}.refractive_index", "a refractive index must be a number in [1, 4]")
+    if coat.get("in_reflectance", False) is not False:
+        if coat["in_reflectance"] is not True:
+            raise InputError(source, f"{field}.coating.in_reflectance", "true or false")
+        # What the coating reflects at normal incidence, taken out of the measured reflectance.
+        reflected = 1.0 - through(1.0, albedo_table(alpha, n))
+        rho = np.maximum(rho - reflected, 0.0) / (1.0 - reflected)
     return {"reflectance": rho, "emission": emission, "specular": ks,
             "exponent": float(gloss.get("exponent", 1.0)), "roughness": float(alpha), "refractive_index": float(n)}
