@@ -20,7 +20,6 @@ azimuthal anisotropy of monocotyledonous leaf surface. Remote Sens Environ 143:1
 """
 
 import argparse
-import json
 import shutil
 import sys
 import tempfile
@@ -28,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 import yaml
+
+from record import record
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -93,7 +94,7 @@ def main(argv=None):
                       "noise_degree_p90": float(np.percentile(noise_degree, 90)),
                       "degree_lambertian": float(np.median(tables["lambertian"][f"{c}_degree"])),
                       "degree_coated": float(np.median(tables["coated"][f"{c}_degree"]))}
-    print(json.dumps(summary))
+    record("coating", summary)
 
 
 if __name__ == "__main__":

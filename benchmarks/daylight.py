@@ -8,6 +8,8 @@ the 10, 50 and 90th percentiles of the measured records like it
 (:mod:`beeoptics.light.daylightrecords`); how many of Granada's records
 lie inside both data sets' ranges at once; then the diffuse irradiance
 Hosek & Wilkie's own model gives, per channel, as a ratio to SPECTRL2's.
+The last line is the same as one JSON object (``suns``: per elevation,
+the model's and the records' ratios; ``both_ranges``; ``hosek_wilkie_over_spectrl2``).
 
     .venv/bin/python benchmarks/daylight.py
 """
@@ -26,6 +28,7 @@ from beeoptics.light.sky import _hemisphere, clear_sky_dome, horizontal_irradian
 from beeoptics.light.sun import sun_disc
 from beeoptics.spectra import grid
 from beeoptics.vision.receptorset import curves, load_receptor_set
+from record import record
 
 TURBIDITY = 3.0
 
@@ -42,12 +45,15 @@ def main(argv=None):
     wl = grid()
     albedo = ground_albedo("grass", wl, "benchmark", "grass")
     s = curves(load_receptor_set("apis_mellifera"), wl)
+    result = {"turbidity": TURBIDITY, "ground": "grass", "suns": {}, "both_ranges": {}, "hosek_wilkie_over_spectrl2": {}}
     print(f"turbidity {TURBIDITY:g}, ground: grass (Feister & Grewe 1995); percentiles 10, 50, 90")
     print("sun  | Granada (300 nm) n  UV/VIS ours  measured            UV/G ours  measured"
           "            | Spitschan (360 nm) n  UV/VIS ours  measured            UV/G ours  measured")
     for elevation in (10, 30, 50, 70):
         daylight, light = scene_light(wl, elevation, albedo)
         r = measured_ranges(wl, light, elevation, s)
+        result["suns"][elevation] = {name: {k: (np.asarray(v).tolist() if k in ("uv_vis", "uv_g") else v)
+                                            for k, v in m.items()} for name, m in r.items()}
         row = f"{elevation:3d}° |"
         for name in ("granada", "spitschan"):
             m = r[name]
@@ -67,6 +73,7 @@ def main(argv=None):
         for name, cut in (("granada", slice(None)), ("spitschan", late)):
             for ratio, values in zip(("uv_vis", "uv_g"), uv_ratios(wl[cut], records[:, cut], s[cut])):
                 inside &= (values >= r[name][ratio][0]) & (values <= r[name][ratio][2])
+        result["both_ranges"][elevation] = [int(inside.sum()), len(records)]
         print(f"{elevation:3d}° | {inside.sum()} of {len(records)}")
     print("\nHosek & Wilkie's own diffuse irradiance / SPECTRL2's, per channel (nm):")
     print("sun  | " + " ".join(f"{c:5.0f}" for c in hosekwilkie.CHANNELS_NM))
@@ -75,7 +82,10 @@ def main(argv=None):
         a = np.interp(hosekwilkie.CHANNELS_NM, wl, albedo)
         own = np.pi * hosekwilkie.channel_radiance(d, direction_from_x_towards_y(0.0, elevation), TURBIDITY, a).mean(0)
         spectrl2 = np.interp(hosekwilkie.CHANNELS_NM, wl, clear_sky(wl, elevation, TURBIDITY, albedo).diffuse)
+        result["hosek_wilkie_over_spectrl2"][elevation] = dict(zip(map(int, hosekwilkie.CHANNELS_NM),
+                                                                   (own / spectrl2).round(4).tolist()))
         print(f"{elevation:3d}° | " + " ".join(f"{v:5.2f}" for v in own / spectrl2))
+    record("daylight", result)
 
 
 if __name__ == "__main__":

@@ -12,11 +12,12 @@ job that loads a scene pays once), ``triangles`` and the cache's folder.
 """
 
 import argparse
-import json
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+from record import record
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -47,8 +48,8 @@ def main(argv=None):
         load_scene(path, wl)
         warm.append(time.perf_counter() - start)
     warm.sort()
-    print(json.dumps({"scene": args.scene, "seconds": warm[1], "cold_seconds": cold, "import_seconds": imported,
-                      "triangles": sum(len(o.faces) for o in scene.objects), "cache": str(scenecache.cache_root())}))
+    record("load", {"scene": args.scene, "seconds": warm[1], "cold_seconds": cold, "import_seconds": imported,
+                      "triangles": sum(len(o.faces) for o in scene.objects), "cache": str(scenecache.cache_root())})
 
 
 if __name__ == "__main__":

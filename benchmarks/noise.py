@@ -30,7 +30,6 @@ the sky's.
 """
 
 import argparse
-import json
 import subprocess
 import sys
 from pathlib import Path
@@ -46,6 +45,8 @@ from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import curves, receptor_set_of
+
+from record import record
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The two seeds whose difference estimates the noise.
@@ -114,7 +115,7 @@ def main(argv=None):
           "{sky_rel_se:.2%} of the catch".format(**result["noise_sources"]), flush=True)
     d, e = result["default"], result["escape"]
     result["efficiency_ratio"] = float(e["p90_rel_se"] ** 2 * e["trace_s"] / (d["p90_rel_se"] ** 2 * d["trace_s"]))
-    print(json.dumps(result))
+    record("noise", result)
 
 
 if __name__ == "__main__":

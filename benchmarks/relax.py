@@ -21,6 +21,7 @@ from pathlib import Path
 from beeoptics.eye.optics import AcceptanceModel
 from beeoptics.pipeline.eyes import build_facets, remesh_eye
 from beeoptics.pipeline.outputs import FACET_OUTPUTS
+from record import record
 
 
 def main():
@@ -43,14 +44,14 @@ def main():
             args.quality.write_text((out / "quality.json").read_text())
     print(f"{args.eye}: {quality['facets_per_eye']} facets relaxed in {seconds:.1f} s "
           f"({quality['relaxation']['iterations']} iterations)")
-    print(json.dumps({
+    record("relax", {
         "eye": args.eye,
         "facets": quality["facets_per_eye"],
         "seconds": round(seconds, 2),
         "iterations": quality["relaxation"]["iterations"],
         "stage_seconds": round(stage_seconds, 2),
         "peak_memory_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-    }))
+    })
 
 
 if __name__ == "__main__":

@@ -20,7 +20,6 @@ over the tracing's time), ``load_s`` (loading the scene). Bounds (issue 25):
 """
 
 import argparse
-import json
 import os
 import subprocess
 import sys
@@ -40,6 +39,8 @@ from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.raycasting import cast_rate
 from beeoptics.spectra import grid
 from beeoptics.vision.receptorset import receptor_set_of
+
+from record import record
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -87,7 +88,7 @@ def main(argv=None):
               "frames": out["frames"], "frames_per_s": out["frames"] / wall, "trace_s": out["trace_s"],
               "rays": out["rays"] / out["frames"], "bare_rays_per_s": bare,
               "embree_share": out["rays"] / bare / out["trace_s"], "load_s": load_s}
-    print(json.dumps(result))
+    record("route", result)
 
 
 if __name__ == "__main__":

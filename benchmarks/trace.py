@@ -33,7 +33,6 @@ compiles the tracer's kernels (printed once): run twice to time the trace.
 """
 
 import argparse
-import json
 import os
 import resource
 import subprocess
@@ -54,6 +53,8 @@ from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.raycasting import cast_rate, embree_seconds
 from beeoptics.spectra import grid
 from beeoptics.vision.receptorset import receptor_set_of
+
+from record import record
 
 ROOT = Path(__file__).resolve().parents[1]
 BARE_BATCH_RAYS = 1 << 20
@@ -117,7 +118,7 @@ def main():
     pipeline = rays / wall
     print(f"{args.eye} pair in {args.scene}: {len(origins)} receptors, {rays} rays in {wall:.1f} s; "
           f"{pipeline / 1e6:.2f} M rays/s against {bare / 1e6:.2f} M bare")
-    print(json.dumps({
+    record("trace", {
         "eye": args.eye, "scene": args.scene, "scene_triangles": sum(len(o.faces) for o in scene.objects),
         "spp": args.spp, "depth": args.depth, "threads": args.threads, "batch_rays": args.batch_rays,
         "receptors": len(origins), "rays": rays, "wall_s": round(wall, 2),
@@ -126,7 +127,7 @@ def main():
         "embree_cpu_share": round(embree_cpu / counts["cpu_seconds"], 3) if args.threads == 1 else None,
         "pipeline_rays_per_s": round(pipeline), "bare_rays_per_s": round(bare),
         "ratio": round(pipeline / bare, 3), "peak_memory_mb": round(peak, 1),
-    }))
+    })
 
 
 if __name__ == "__main__":

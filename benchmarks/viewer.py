@@ -17,11 +17,12 @@ hover label open: the README's figure.
 """
 
 import argparse
-import json
 import statistics
 import sys
 import tempfile
 from pathlib import Path
+
+from record import record
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -50,10 +51,10 @@ def main(argv=None):
     if args.screenshot is not None:
         open_page(page, args.screenshot.resolve(), f"#receptor={args.receptor}")
     size = page.stat().st_size
-    print(json.dumps({"page": str(args.page), "bytes": size, "megabytes": round(size / 1e6, 2),
+    record("viewer", {"page": str(args.page), "bytes": size, "megabytes": round(size / 1e6, 2),
                       "drawn_s": statistics.median(runs[False]), "runs": runs[False],
                       "drawn_virtual_s": statistics.median(runs[True]), "virtual_runs": runs[True],
-                      "receptors": seen["drawn"]["receptors"]}))
+                      "receptors": seen["drawn"]["receptors"]})
 
 
 if __name__ == "__main__":

@@ -3,15 +3,14 @@
 Each such passage lies between ``<!-- from the run: NAME -->`` and ``<!-- end NAME -->`` in the
 README, and :data:`PASSAGES` says which files make it: the worker's eye against Collins's and the
 published values (``worker_eye``), every shipped eye (``eyes``, after ``snakemake comparison``),
-and the compass caption (``compass``). A passage whose files are
-not in the results folder is left as it is, and said so. Run after ``make workflow`` (and
-``snakemake comparison``)::
+the compass caption (``compass``), the default workflow's jobs and time (``workflow``, from
+Snakemake's log of the run), and the benchmarks' tables (``daylight``, ``noise``, ``speed``, from
+the lines each benchmark keeps in ``results/benchmarks/<name>.jsonl``: benchmarks/record.py). A
+passage whose files are not in the results folder is left as it is, and said so. Run after
+``make workflow`` (and ``snakemake comparison``, and the benchmarks)::
 
     .venv/bin/python docs/readme.py            # rewrite README.md
     .venv/bin/python docs/readme.py --check    # exit 1 if README.md is not what the run gives
-
-The daylight and speed tables come from benchmarks (benchmarks/daylight.py, trace.py), not from a
-run's files, and are written by hand from their printed JSON.
 """
 
 import argparse
@@ -20,6 +19,7 @@ import math
 import re
 import subprocess
 import sys
+from datetime import datetime
 from pathlib import Path
 
 import numpy as np
@@ -40,8 +40,10 @@ def _delta_rho(results, eye):
     return read_receptors(results / "eyes" / eye / "receptors.csv").delta_rho_deg
 
 
-def _commit():
-    done = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+def _commit(results):
+    """The commit of the checkout whose run made ``results`` (the folder beside its ``results``)."""
+    done = subprocess.run(["git", "-C", str(results.parent), "rev-parse", "--short", "HEAD"], capture_output=True,
+                          text=True)
     return done.stdout.strip() or "this checkout"
 
 
@@ -103,7 +105,7 @@ def worker_eye(results, eyes_dir):
          "1.9° fronto-ventrally (Rigosi et al. 2017), 2.57° centrally (Eheim & Wehner 1972)"),
         ("dorsal rim area", rim, "at least 60 ommatidia, skyward (Schinz 1975)"),
     ]
-    lines = [f"| worker, right eye (`quality.json` of {_commit()}'s run) | Collins's eye (`worker_collins`) | ours "
+    lines = [f"| worker, right eye (`quality.json` of {_commit(results)}'s run) | Collins's eye (`worker_collins`) | ours "
              "(`worker`) | published |",
              "|---|---|---|---|"]
     for label, value, published in table:
@@ -154,11 +156,100 @@ def compass(results, eyes_dir):
         return f"{s[key]['median_abs_error_deg']:.2f}° (median, {s[key]['max_abs_error_deg']:.2f}° at most)"
 
     return (f"*`results/worker/meadow/polarisation/compass.png`: the compass's estimate of the solar azimuth over a "
-            f"full\nturn, from {_commit()}'s default run. Under Rayleigh's sky it errs by {errs('Rayleigh sky, open')}"
+            f"full\nturn, from {_commit(results)}'s default run. Under Rayleigh's sky it errs by {errs('Rayleigh sky, open')}"
             f";\nunder the clear sky, whose neutral points Rayleigh's map lacks, by {errs('clear sky, open')}; "
             f"lowered to\n{cm} cm among the grass, where the plants hide {100 * s[low]['sky_hidden']:.0f} % of the "
             f"dorsal rim's view, by\n{errs(low)}. Turbidity only scales the sky's degree here, which a read-out free "
             "of\nreceptor noise does not feel.*")
+
+
+def _kept(results, name):
+    """A benchmark's kept runs (benchmarks/record.py), oldest first."""
+    return [json.loads(line) for line in (results / "benchmarks" / f"{name}.jsonl").read_text().splitlines() if line]
+
+
+def _span(values, digits):
+    """Values as a range, "low–high", or one value where they agree to ``digits``."""
+    low, high = f"{min(values):,.{digits}f}", f"{max(values):,.{digits}f}"
+    return low if low == high else f"{low}–{high}"
+
+
+def daylight(results, eyes_dir):
+    """The clear-sky daylight against measured daylight, from benchmarks/daylight.py's last run."""
+    run = _kept(results, "daylight")[-1]
+    lines = [f"| sun | UV/VIS photons, model | Granada (records) | UV/G catch, model | Granada | from 360 nm: UV/G, "
+             f"model | Spitschan (records) |", "|---|---|---|---|---|---|---|"]
+
+    def measured(m, key):
+        low, median, high = m[key]
+        return f"{median:.3f} [{low:.3f}–{high:.3f}]"
+
+    for elevation, sun in run["suns"].items():
+        g, s = sun["granada"], sun["spitschan"]
+        late = (f"{s['model_uv_g']:.3f} | {measured(s, 'uv_g')} ({s['n']})" if s["n"] else
+                f"{s['model_uv_g']:.3f} | none within 5° of the sun")
+        lines.append(f"| {elevation}° | {g['model_uv_vis']:.3f} | {measured(g, 'uv_vis')} ({g['n']}) | "
+                     f"{g['model_uv_g']:.3f} | {measured(g, 'uv_g')} | {late} |")
+    return f"*`benchmarks/daylight.py` at {run['commit']}:*\n\n" + "\n".join(lines)
+
+
+def noise(results, eyes_dir):
+    """The noise of each way of sampling the sky, from benchmarks/noise.py's last run in each scene."""
+    runs = {r["scene"]: r for r in _kept(results, "noise")}
+    lines = ["| scene | estimator | G median | G p90 | trace, s | efficiency (escape's p90² · time over the "
+             "default's) |", "|---|---|---|---|---|---|"]
+    for scene, run in runs.items():
+        for name, label in (("default", "nee (default)"), ("escape", "escape")):
+            e = run[name]
+            ratio = f"{run['efficiency_ratio']:.2f}" if name == "default" else ""
+            lines.append(f"| {scene} | {label} | {100 * e['median_rel_se']:.2f} % | {100 * e['p90_rel_se']:.2f} % | "
+                         f"{e['trace_s']:.1f} | {ratio} |")
+    sources = [f"{scene}: the sun {100 * r['noise_sources']['sun_share']:.0f} % of the catch, its noise "
+               f"{100 * r['noise_sources']['sun_rel_se']:.1f} % of it and the sky's {100 * r['noise_sources']['sky_rel_se']:.1f} %"
+               for scene, r in runs.items() if "noise_sources" in r]
+    commits = ", ".join(sorted({r["commit"] for r in runs.values()}))
+    return (f"*`benchmarks/noise.py` at {commits}: the worker pair, {next(iter(runs.values()))['spp']} samples, "
+            f"depth {next(iter(runs.values()))['depth']}, two seeds.*\n\n" + "\n".join(lines)
+            + ("\n\nWhat makes the noisiest tenth's noise (the same receptors lit by the sun alone and by the sky "
+               "alone): " + "; ".join(sources) + "." if sources else ""))
+
+
+def speed(results, eyes_dir):
+    """The tracer's speed, from benchmarks/trace.py's last three runs of each setting."""
+    groups = {}
+    for r in _kept(results, "trace"):
+        groups.setdefault((r["eye"], r["spp"], r["depth"], r["scene"], r["threads"]), []).append(r)
+    lines = ["| eye pair, samples, depth | scene | threads | trace, s | whole stage, s | Embree share (CPU, one "
+             "thread) | bare Embree, M rays/s | peak, MB |", "|---|---|---|---|---|---|---|---|"]
+    commits = set()
+    for (eye, spp, depth, scene, threads), runs in groups.items():
+        runs = runs[-3:]
+        commits |= {r["commit"] for r in runs}
+        triangles = runs[-1]["scene_triangles"]
+        cpu = [r["embree_cpu_share"] for r in runs if r.get("embree_cpu_share") is not None]
+        share = _span([r["embree_fraction"] for r in runs], 2) + (f" ({_span(cpu, 2)})" if cpu else "")
+        lines.append(f"| {eye}, {spp:,}, {depth} | {Path(scene).parent.name if scene.endswith('.yaml') else scene} "
+                     f"({triangles:,} triangles) | {threads} | {_span([r['trace_s'] for r in runs], 1)} | "
+                     f"{_span([r['wall_s'] for r in runs], 1)} | {share} | "
+                     f"{_span([r['bare_rays_per_s'] / 1e6 for r in runs], 2)} | "
+                     f"{_span([r['peak_memory_mb'] for r in runs], 0)} |")
+    return (f"*`benchmarks/trace.py` at {', '.join(sorted(commits))}, the last three runs of each setting:*\n\n"
+            + "\n".join(lines))
+
+
+def workflow(results, eyes_dir):
+    """The default workflow's jobs and time, from Snakemake's log of the newest run of the default target (its
+    rule ``all``) that did every job it planned."""
+    logs = sorted((results.parent / ".snakemake" / "log").glob("*.snakemake.log"))
+    finished = [p for p in logs if re.search(r"(\d+) of \1 steps \(100%\) done", p.read_text())
+                and re.search(r"^localrule all:$", p.read_text(), re.M)]
+    text = finished[-1].read_text()
+    stamps = [datetime.strptime(t, "%a %b %d %H:%M:%S %Y") for t in re.findall(r"^\[(\w{3} \w{3} +\d+ [\d:]+ \d{4})\]",
+                                                                             text, re.M)]
+    jobs = int(re.findall(r"(\d+) of \1 steps \(100%\) done", text)[-1])
+    minutes, seconds = divmod(round((stamps[-1] - stamps[0]).total_seconds()), 60)
+    return (f"In {_commit(results)}'s run of {stamps[0]:%Y-%m-%d}, after set-up: {jobs} jobs in {minutes} min {seconds:02d} s "
+            f"(Snakemake's log, {finished[-1].name}).")
 
 
 #: Passage name → (what writes it, the files it reads, relative to the results folder or the repository).
@@ -166,6 +257,10 @@ PASSAGES = {
     "worker_eye": (worker_eye, ["eyes/worker/quality.json", "eyes/worker_collins/quality.json"]),
     "eyes": (eyes, ["comparison/acuity.csv"]),
     "compass": (compass, ["worker/meadow/polarisation/compass.json"]),
+    "workflow": (workflow, ["../.snakemake/log"]),
+    "daylight": (daylight, ["benchmarks/daylight.jsonl"]),
+    "noise": (noise, ["benchmarks/noise.jsonl"]),
+    "speed": (speed, ["benchmarks/trace.jsonl"]),
 }
 BLOCK = re.compile(r"(<!-- from the run: (\w+) -->\n)(.*?)(\n<!-- end \2 -->)", re.S)
 

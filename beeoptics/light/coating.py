@@ -40,6 +40,8 @@ BRDF model with importance sampling. Eurographics 2001 Short Presentations.
 Born M, Wolf E (1999) Principles of Optics, 7th ed. (§1.5: Fresnel).
 """
 
+import functools
+
 import numpy as np
 
 from beeoptics.jit import kernel
@@ -167,8 +169,10 @@ def _albedo(alpha, eta, mu, n):
     return total / (n * n)
 
 
+@functools.cache
 def albedo_table(alpha, eta, nodes=ALBEDO_NODES, quadrature=QUADRATURE_NODES):
-    """A coating's directional albedo E(μ) at μ = (k + ½)/nodes, and its hemispherical mean Ē last.
+    """A coating's directional albedo E(μ) at μ = (k + ½)/nodes, and its hemispherical mean Ē last, made once
+    per coating (a trace asks for it in every batch), read-only.
 
     Parameters
     ----------
@@ -182,4 +186,6 @@ def albedo_table(alpha, eta, nodes=ALBEDO_NODES, quadrature=QUADRATURE_NODES):
     """
     mu = (np.arange(nodes) + 0.5) / nodes
     e = np.array([_albedo(float(alpha), float(eta), m, quadrature) for m in mu])
-    return np.append(e, 2.0 * np.sum(e * mu) / nodes)
+    table = np.append(e, 2.0 * np.sum(e * mu) / nodes)
+    table.flags.writeable = False
+    return table
