@@ -252,6 +252,48 @@ def workflow(results, eyes_dir):
             f"(Snakemake's log, {finished[-1].name}).")
 
 
+def coating(results, eyes_dir):
+    """What the grass's coating changes, from benchmarks/coating.py's last run."""
+    run = _kept(results, "coating")[-1]
+    lines = [f"| receptor class | catch change, median / 90th percentile | between two seeds (noise) | degree of "
+             f"polarisation change, median / 90th percentile | between two seeds | median degree, Lambertian → "
+             f"coated |", "|---|---|---|---|---|---|"]
+    for c, v in run.items():
+        if isinstance(v, dict):
+            lines.append(f"| {c} | {100 * v['catch_median']:.1f} % / {100 * v['catch_p90']:.1f} % | "
+                         f"{100 * v['noise_catch_median']:.1f} % / {100 * v['noise_catch_p90']:.1f} % | "
+                         f"{v['degree_median']:.3f} / {v['degree_p90']:.3f} | {v['noise_degree_median']:.3f} / "
+                         f"{v['noise_degree_p90']:.3f} | {v['degree_lambertian']:.3f} → {v['degree_coated']:.3f} |")
+    return (f"*`benchmarks/coating.py` at {run['commit']}: the worker in the meadow, {run['samples']} samples, depth "
+            f"{run['depth']}, its grass Lambertian and coated:*\n\n" + "\n".join(lines))
+
+
+def pond(results, eyes_dir):
+    """The pond figure's caption, from the worker's polarisation at the pond."""
+    table = read_table(results / "worker" / "pond" / "polarisation" / "polarisation.csv", numeric=["id"],
+                       text=["side"])
+    axes = read_receptors(results / "eyes" / "worker" / "receptors.csv")
+    by_id = {i: k for k, i in enumerate(axes.id)}
+    axis = axes.axis[[by_id[i] for i in table["id"]]]
+    elevation = np.degrees(np.arcsin(axis[:, 2]))
+    ahead = np.degrees(np.arccos(np.clip(axis[:, 0] / np.hypot(axis[:, 0], axis[:, 1]), -1, 1))) <= 30.0
+    degree, angle = table["UV_degree"], table["UV_angle_deg"]
+
+    def looking(low, high):
+        return ahead & (elevation >= low) & (elevation < high)
+
+    at_brewster = looking(-45.0, -25.0)
+    p10, p50, p90 = np.percentile(degree[at_brewster], [10, 50, 90])
+    return (f"*`results/worker/pond/polarisation/field.png` ({_commit(results)}'s run): the water ahead and below is "
+            f"polarised with the\ne-vector horizontal (hue: {np.median(angle[at_brewster]):.0f}°, the head's "
+            f"anterior direction 90°), most strongly 25–45° below the\nhorizon, where the water is seen at 45–65° "
+            f"incidence around Brewster's 53°: median degree {p50:.2f}\n(10th–90th percentile {p10:.2f}–{p90:.2f}) "
+            f"over the {int(at_brewster.sum())} receptors looking there within 30° of ahead;\n"
+            f"{np.median(degree[looking(-70.0, -50.0)]):.2f} looking 50–70° down, "
+            f"{np.median(degree[looking(-10.0, 0.0)]):.2f} within 10° below the horizon. This is the reflection aquatic "
+            "insects\nfind water by (Schwind 1991; Horváth & Varjú 2004).*")
+
+
 #: Passage name → (what writes it, the files it reads, relative to the results folder or the repository).
 PASSAGES = {
     "worker_eye": (worker_eye, ["eyes/worker/quality.json", "eyes/worker_collins/quality.json"]),
@@ -261,6 +303,8 @@ PASSAGES = {
     "daylight": (daylight, ["benchmarks/daylight.jsonl"]),
     "noise": (noise, ["benchmarks/noise.jsonl"]),
     "speed": (speed, ["benchmarks/trace.jsonl"]),
+    "coating": (coating, ["benchmarks/coating.jsonl"]),
+    "pond": (pond, ["worker/pond/polarisation/polarisation.csv"]),
 }
 BLOCK = re.compile(r"(<!-- from the run: (\w+) -->\n)(.*?)(\n<!-- end \2 -->)", re.S)
 

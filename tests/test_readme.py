@@ -18,6 +18,7 @@ others (:func:`as_run`):
 """
 
 import importlib.util
+import json
 import re
 import runpy
 import shlex
@@ -40,7 +41,7 @@ USERS_OWN = {
     "receptor_directions_buchner71.csv": SHARED / "drosophila" / "receptor_directions_buchner71.csv",
     "my_meadow.yaml": ROOT / "scenes" / "meadow" / "meadow.yaml",
 }
-CONDA_ROUTE = ("conda ", "pip ", "snakemake ")
+CONDA_ROUTE = ("conda ", "pip ", "beeoptics ", "snakemake ")
 
 
 def commands(text):
@@ -142,3 +143,32 @@ def test_every_passage_the_readme_takes_from_a_run_has_its_writer():
     script = readme_script()
     found = [m.group(2) for m in script.BLOCK.finditer(README.read_text())]
     assert sorted(found) == sorted(script.PASSAGES)
+
+
+def test_the_readme_tables_of_benchmarks_are_written_from_their_kept_runs(tmp_path):
+    """docs/readme.py writes the speed table from the last three runs of each setting that
+    benchmarks/record.py kept, the noise table from each scene's last, and the workflow's time from
+    Snakemake's log of the last whole default run."""
+    script = readme_script()
+    kept = tmp_path / "results" / "benchmarks"
+    kept.mkdir(parents=True)
+    runs = [{"commit": f"c{k}", "eye": "worker", "spp": 256, "depth": 3, "scene": "meadow", "threads": 1,
+             "scene_triangles": 1178472, "trace_s": t, "wall_s": t + 3, "embree_fraction": 0.5, "embree_cpu_share": 0.7,
+             "bare_rays_per_s": 2.0e6, "peak_memory_mb": 1400.0} for k, t in enumerate((99.0, 7.0, 8.5, 7.5))]
+    (kept / "trace.jsonl").write_text("".join(json.dumps(r) + "\n" for r in runs))
+    table = script.speed(tmp_path / "results", None)
+    assert "| worker, 256, 3 | meadow (1,178,472 triangles) | 1 | 7.0–8.5 | 10.0–11.5 | 0.50 (0.70) | 2.00 |" in table
+    assert "c0" not in table  # the oldest of four runs is left out
+    estimator = {"median_rel_se": 0.007, "p90_rel_se": 0.064, "trace_s": 6.6}
+    (kept / "noise.jsonl").write_text(json.dumps({
+        "commit": "c9", "scene": "meadow", "spp": 256, "depth": 3, "default": estimator, "escape": estimator,
+        "efficiency_ratio": 0.67, "noise_sources": {"sun_share": 0.75, "sun_rel_se": 0.072, "sky_rel_se": 0.017}}) + "\n")
+    noise = script.noise(tmp_path / "results", None)
+    assert "| meadow | nee (default) | 0.70 % | 6.40 % | 6.6 | 0.67 |" in noise and "the sun 75 %" in noise
+    logs = tmp_path / ".snakemake" / "log"
+    logs.mkdir(parents=True)
+    (logs / "2026-01-01T000000.snakemake.log").write_text(
+        "[Thu Jan  1 00:00:05 2026]\nlocalrule all:\n[Thu Jan  1 00:04:50 2026]\n70 of 70 steps (100%) done\n")
+    (logs / "2026-01-02T000000.snakemake.log").write_text(
+        "[Fri Jan  2 00:00:05 2026]\nrule pond:\n[Fri Jan  2 00:01:00 2026]\n7 of 7 steps (100%) done\n")
+    assert "70 jobs in 4 min 45 s" in script.workflow(tmp_path / "results", None)

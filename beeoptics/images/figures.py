@@ -295,7 +295,8 @@ def retinas(images, extents, anterior, dorsal):
         if kind not in drawn:
             drawn[kind] = _retina_figure(image, extents, anterior, dorsal, title, caption, colourbar_label)
             save(drawn[kind][0], path)
-            drawn[kind][0].set_layout_engine("none")
+            # No layout engine from here on (not even "none", with which saving draws the figure twice).
+            drawn[kind][0].set_layout_engine(None)
             continue
         fig, shown, heading, note, width = drawn[kind]
         for artist, half in zip(shown, _halves(image)):
@@ -387,7 +388,7 @@ def visual_field_frames(frames, eyes, azimuth_deg, elevation_deg):
             fig, heading = _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 3.6)
             canvas = FigureCanvasAgg(fig)
             canvas.draw()
-            fig.set_layout_engine("none")
+            fig.set_layout_engine(None)
         else:
             for ax, image in zip(fig.axes, shown):
                 ax.images[0].set_data(image)
