@@ -57,8 +57,8 @@ def test_a_run_stopped_mid_trace_completes_on_rerun_with_identical_outputs(tmp_p
         "eyes": ["tiny"], "scenes": ["flower"],
         "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
         "spectral": {"step_nm": 10},
-        # Enough samples that the trace runs for seconds (about 8 s here), long enough to be stopped in.
-        "trace": {"samples_per_receptor": 4096, "depth": 2, "seed": 3, "batch_rays": 262144},
+        # Enough samples that the trace runs for seconds (about 4 s here), long enough to be stopped in.
+        "trace": {"samples_per_receptor": 2048, "depth": 2, "seed": 3, "batch_rays": 262144},
     }
     (work / "config.yaml").write_text(yaml.safe_dump(config))
     # The outputs of a run that nothing stopped.

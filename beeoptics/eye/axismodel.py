@@ -43,21 +43,35 @@ from beeoptics.headframe import RIGHT, eye_direction, in_eye_plane
 
 #: Rows of the pairwise tables at a time, bounding memory to a few tens of megabytes.
 _CHUNK = 256
+#: Beyond this many spacings above or below a position, a point counts as wholly below it or not at all,
+#: and not in its row: Φ(12) is 1 and e^(−12²/2) 10⁻³¹ of a row's weight, to double precision.
+_BAND = 12.0
 
 
 def _shares(at, points, weights, spacing):
     """For each of ``at`` (m, 2: anterior, dorsal), the weighted shares of ``points`` below it
-    and anterior to it in its row."""
-    below = np.empty(len(at))
-    anterior = np.empty(len(at))
-    total = weights.sum()
+    and anterior to it in its row.
+
+    Points and positions are taken in order of height, so that each block of
+    positions meets only the points within :data:`_BAND` spacings of it; the
+    weight of those further below is counted whole.
+    """
+    order = np.argsort(points[:, 1], kind="stable")
+    y, x, w = points[order, 1], points[order, 0], np.asarray(weights, float)[order]
+    lower = np.concatenate([[0.0], np.cumsum(w)])
+    total = w.sum()
+    below, anterior = np.empty(len(at)), np.empty(len(at))
+    by_height = np.argsort(at[:, 1], kind="stable")
     for start in range(0, len(at), _CHUNK):
-        block = at[start:start + _CHUNK]
-        dv = (block[:, None, 1] - points[None, :, 1]) / spacing
-        below[start:start + len(block)] = ndtr(dv) @ weights / total
-        row = np.exp(-0.5 * dv**2) * weights
-        ahead = ndtr((points[None, :, 0] - block[:, None, 0]) / (0.5 * spacing))
-        anterior[start:start + len(block)] = (row * ahead).sum(1) / row.sum(1)
+        rows = by_height[start:start + _CHUNK]
+        block = at[rows]
+        lo = np.searchsorted(y, block[:, 1].min() - _BAND * spacing, "left")
+        hi = np.searchsorted(y, block[:, 1].max() + _BAND * spacing, "right")
+        dv = (block[:, None, 1] - y[None, lo:hi]) / spacing
+        below[rows] = (lower[lo] + ndtr(dv) @ w[lo:hi]) / total
+        row = np.exp(-0.5 * dv**2) * w[lo:hi]
+        ahead = ndtr((x[None, lo:hi] - block[:, None, 0]) / (0.5 * spacing))
+        anterior[rows] = (row * ahead).sum(1) / row.sum(1)
     return below, anterior
 
 
