@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--scene", default="meadow")
+    parser.add_argument("--scene", default="meadow", help="a folder of scenes/ (default: %(default)s)")
     args = parser.parse_args(argv)
     start = time.perf_counter()
     from beeoptics.light import scenecache

@@ -55,11 +55,11 @@ SEEDS = (1, 2)
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--eye", default="worker")
-    parser.add_argument("--scene", default="meadow")
-    parser.add_argument("--spp", type=int, default=256)
-    parser.add_argument("--depth", type=int, default=3)
-    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--eye", default="worker", help="eye class (default: %(default)s)")
+    parser.add_argument("--scene", default="meadow", help="a folder of scenes/ (default: %(default)s)")
+    parser.add_argument("--spp", type=int, default=256, help="samples per receptor (default: %(default)s)")
+    parser.add_argument("--depth", type=int, default=3, help="scattering events per path (default: %(default)s)")
+    parser.add_argument("--threads", type=int, default=2, help="threads (default: %(default)s)")
     args = parser.parse_args(argv)
     config = validate_config({}, CONFIG_SCHEMA, folders=False)
     receptors = ROOT / "results" / "eyes" / args.eye / "receptors.csv"

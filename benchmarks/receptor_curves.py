@@ -40,8 +40,8 @@ def spread(values):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--eye", default="worker")
-    parser.add_argument("--scene", default="meadow")
+    parser.add_argument("--eye", default="worker", help="eye class (default: %(default)s)")
+    parser.add_argument("--scene", default="meadow", help="a folder of scenes/ (default: %(default)s)")
     args = parser.parse_args()
     config = validate_config({}, CONFIG_SCHEMA, folders=False)
     receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")

@@ -27,7 +27,8 @@ from record import record
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--eye", default="worker", help="eye class, a folder of --eyes-dir (default: worker)")
-    parser.add_argument("--eyes-dir", default=Path(__file__).resolve().parents[1] / "eyes", type=Path)
+    parser.add_argument("--eyes-dir", default=Path(__file__).resolve().parents[1] / "eyes", type=Path,
+                        help="the folder of eye classes (default: the repository's eyes/)")
     parser.add_argument("--tolerance-um", type=float, default=0.05, help="relaxation tolerance, µm (default 0.05)")
     parser.add_argument("--quality", type=Path, help="copy the eye's quality.json here")
     args = parser.parse_args()

@@ -47,10 +47,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--eye", default="worker")
-    parser.add_argument("--scene", default="meadow")
-    parser.add_argument("--flight", default="flights/scan.csv", help="relative to the scene's folder")
-    parser.add_argument("--threads", type=int, default=os.cpu_count())
+    parser.add_argument("--eye", default="worker", help="eye class (default: %(default)s)")
+    parser.add_argument("--scene", default="meadow", help="a folder of scenes/ (default: %(default)s)")
+    parser.add_argument("--flight", default="flights/scan.csv",
+                        help="the flight's CSV, relative to the scene's folder (default: %(default)s)")
+    parser.add_argument("--threads", type=int, default=os.cpu_count(), help="threads (default: the cores, %(default)s)")
     args = parser.parse_args(argv)
     # The views' settings as the config's defaults give them to a flight.
     config = validate_config({"flights": {"route": {"scene": args.scene, "path": args.flight, "eyes": [args.eye]}}},

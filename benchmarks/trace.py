@@ -80,7 +80,7 @@ def main():
     parser.add_argument("--scene", default="meadow", help="a folder of scenes/ or a scene file (default: meadow)")
     parser.add_argument("--spp", type=int, default=256, help="samples per receptor (default: 256)")
     parser.add_argument("--depth", type=int, default=3, help="scattering events per path (default: 3)")
-    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--seed", type=int, default=1, help="the random numbers' seed (default: %(default)s)")
     parser.add_argument("--threads", type=int, default=os.cpu_count(), help="threads (default: the cores, %(default)s)")
     defaults = validate_config({}, CONFIG_SCHEMA, folders=False)
     parser.add_argument("--batch-rays", type=int, default=defaults["trace"]["batch_rays"],
