@@ -9,11 +9,13 @@ whole), and, on a temporary copy of the scene, with the grass Lambertian (its co
 same spectrum its base: the meadow before the coating); that one again with another seed, for the
 Monte Carlo noise of such a comparison. Needs the meadow's mesh and the worker's eye (make workflow
 makes them). The last line printed is one JSON object: per receptor class, the median and 90th
-percentile over receptors of the catch's relative change (``catch_median``, ``catch_p90``, of
-|coated/Lambertian − 1|) and of the degree of polarisation's absolute change (``degree_median``,
-``degree_p90``), the same between the two seeds (``noise_*``), and the median degree with and
-without the coating. With ``--figures`` the two polarisation maps of the visual field are written
-there (coating_lambertian.png, coating_coated.png).
+percentile of the catch's relative change (``catch_median``, ``catch_p90``, of |coated/Lambertian − 1|)
+and of the degree of polarisation's absolute change (``degree_median``, ``degree_p90``), the same between
+the two seeds (``noise_*``), and the median degree with and without the coating, over the receptors
+looking below the head's horizon (``below``: their number), where the grass is; the sky's receptors,
+some half of the eye, see no change (``all``: the same over every receptor). With ``--figures`` the
+two polarisation maps of the visual field are written there (coating_lambertian.png,
+coating_coated.png).
 
 Reference: Comar A, Baret F, Obein G, et al. (2014) ACT: a leaf BRDF model taking into account the
 azimuthal anisotropy of monocotyledonous leaf surface. Remote Sens Environ 143:112–121.
@@ -39,6 +41,7 @@ def main(argv=None):
                         "samples)")
     parser.add_argument("--figures", type=Path, help="write the polarisation maps with and without the coating here")
     args = parser.parse_args(argv)
+    from beeoptics.io.receptortable import read_receptors
     from beeoptics.io.table import read_table
     from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
     from beeoptics.light.batching import TraceSettings
@@ -76,24 +79,31 @@ def main(argv=None):
             if args.figures is not None and name != "lambertian_again":
                 args.figures.mkdir(parents=True, exist_ok=True)
                 shutil.copy(out["field"], args.figures / f"coating_{name}.png")
-    summary = {"samples": samples, "depth": config["trace"]["depth"]}
-    for c in receptor_set.classes:
-        def changes(a, b):
-            before, after = tables[a][f"{c}_I"], tables[b][f"{c}_I"]
-            catch = np.abs(after / before - 1.0)[before > 0]
-            degree = np.abs(tables[b][f"{c}_degree"] - tables[a][f"{c}_degree"])
-            return catch, degree
+    axes = read_receptors(receptors)
+    row = {i: k for k, i in enumerate(axes.id)}
+    below = axes.axis[[row[i] for i in tables["coated"]["id"]], 2] < 0.0
+    summary = {"samples": samples, "depth": config["trace"]["depth"], "below": int(below.sum())}
 
-        catch, degree = changes("lambertian", "coated")
-        noise_catch, noise_degree = changes("lambertian", "lambertian_again")
-        summary[c] = {"catch_median": float(np.median(catch)), "catch_p90": float(np.percentile(catch, 90)),
-                      "degree_median": float(np.median(degree)), "degree_p90": float(np.percentile(degree, 90)),
-                      "noise_catch_median": float(np.median(noise_catch)),
-                      "noise_catch_p90": float(np.percentile(noise_catch, 90)),
-                      "noise_degree_median": float(np.median(noise_degree)),
-                      "noise_degree_p90": float(np.percentile(noise_degree, 90)),
-                      "degree_lambertian": float(np.median(tables["lambertian"][f"{c}_degree"])),
-                      "degree_coated": float(np.median(tables["coated"][f"{c}_degree"]))}
+    def changes(c, a, b, where):
+        before, after = tables[a][f"{c}_I"][where], tables[b][f"{c}_I"][where]
+        catch = np.abs(after / before - 1.0)[before > 0]
+        degree = np.abs(tables[b][f"{c}_degree"][where] - tables[a][f"{c}_degree"][where])
+        return catch, degree
+
+    def summarise(c, where):
+        catch, degree = changes(c, "lambertian", "coated", where)
+        noise_catch, noise_degree = changes(c, "lambertian", "lambertian_again", where)
+        return {"catch_median": float(np.median(catch)), "catch_p90": float(np.percentile(catch, 90)),
+                "degree_median": float(np.median(degree)), "degree_p90": float(np.percentile(degree, 90)),
+                "noise_catch_median": float(np.median(noise_catch)),
+                "noise_catch_p90": float(np.percentile(noise_catch, 90)),
+                "noise_degree_median": float(np.median(noise_degree)),
+                "noise_degree_p90": float(np.percentile(noise_degree, 90)),
+                "degree_lambertian": float(np.median(tables["lambertian"][f"{c}_degree"][where])),
+                "degree_coated": float(np.median(tables["coated"][f"{c}_degree"][where]))}
+
+    for c in receptor_set.classes:
+        summary[c] = summarise(c, below) | {"all": summarise(c, np.ones_like(below))}
     record("coating", summary)
 
 

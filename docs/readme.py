@@ -253,17 +253,19 @@ def workflow(results, eyes_dir):
 
 
 def coating(results, eyes_dir):
-    """What the grass's coating changes, from benchmarks/coating.py's last run."""
+    """What the grass's coating changes, from benchmarks/coating.py's last run: over the receptors looking below the
+    horizon, where the grass is, and over all."""
     run = _kept(results, "coating")[-1]
-    lines = [f"| receptor class | catch change, median / 90th percentile | between two seeds (noise) | degree of "
-             f"polarisation change, median / 90th percentile | between two seeds | median degree, Lambertian → "
-             f"coated |", "|---|---|---|---|---|---|"]
+    lines = [f"| receptor class | receptors | catch change, median / 90th percentile | between two seeds (noise) | "
+             f"degree of polarisation change, median / 90th percentile | between two seeds | median degree, "
+             f"Lambertian → coated |", "|---|---|---|---|---|---|---|"]
     for c, v in run.items():
         if isinstance(v, dict):
-            lines.append(f"| {c} | {100 * v['catch_median']:.1f} % / {100 * v['catch_p90']:.1f} % | "
-                         f"{100 * v['noise_catch_median']:.1f} % / {100 * v['noise_catch_p90']:.1f} % | "
-                         f"{v['degree_median']:.3f} / {v['degree_p90']:.3f} | {v['noise_degree_median']:.3f} / "
-                         f"{v['noise_degree_p90']:.3f} | {v['degree_lambertian']:.3f} → {v['degree_coated']:.3f} |")
+            for label, w in ((f"below the horizon ({run['below']:,})", v), ("all", v["all"])):
+                lines.append(f"| {c} | {label} | {100 * w['catch_median']:.1f} % / {100 * w['catch_p90']:.1f} % | "
+                             f"{100 * w['noise_catch_median']:.1f} % / {100 * w['noise_catch_p90']:.1f} % | "
+                             f"{w['degree_median']:.3f} / {w['degree_p90']:.3f} | {w['noise_degree_median']:.3f} / "
+                             f"{w['noise_degree_p90']:.3f} | {w['degree_lambertian']:.3f} → {w['degree_coated']:.3f} |")
     return (f"*`benchmarks/coating.py` at {run['commit']}: the worker in the meadow, {run['samples']} samples, depth "
             f"{run['depth']}, its grass Lambertian and coated:*\n\n" + "\n".join(lines))
 
