@@ -41,7 +41,8 @@ def _delta_rho(results, eye):
 
 
 def _commit(results):
-    """The commit of the checkout whose run made ``results`` (the folder beside its ``results``)."""
+    """The commit of the checkout whose run made ``results`` (the folder beside its ``results``): its commit now, so
+    write the passages before that checkout moves on."""
     done = subprocess.run(["git", "-C", str(results.parent), "rev-parse", "--short", "HEAD"], capture_output=True,
                           text=True)
     return done.stdout.strip() or "this checkout"
