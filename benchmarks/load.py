@@ -49,7 +49,7 @@ def main(argv=None):
         warm.append(time.perf_counter() - start)
     warm.sort()
     record("load", {"scene": args.scene, "seconds": warm[1], "cold_seconds": cold, "import_seconds": imported,
-                      "triangles": sum(len(o.faces) for o in scene.objects), "cache": str(scenecache.cache_root())})
+                    "triangles": sum(len(o.faces) for o in scene.objects), "cache": str(scenecache.cache_root())})
 
 
 if __name__ == "__main__":

@@ -3,9 +3,10 @@
 Each such passage lies between ``<!-- from the run: NAME -->`` and ``<!-- end NAME -->`` in the
 README, and :data:`PASSAGES` says which files make it: the worker's eye against Collins's and the
 published values (``worker_eye``), every shipped eye (``eyes``, after ``snakemake comparison``),
-the compass caption (``compass``), the default workflow's jobs and time (``workflow``, from
-Snakemake's log of the run), and the benchmarks' tables (``daylight``, ``noise``, ``speed``, from
-the lines each benchmark keeps in ``results/benchmarks/<name>.jsonl``: benchmarks/record.py). A
+the compass and pond captions (``compass``, ``pond``, after ``snakemake pond``), the default
+workflow's jobs and time (``workflow``, from Snakemake's log of the run), and the benchmarks'
+tables (``daylight``, ``noise``, ``speed``, ``coating``, from the lines each benchmark keeps in
+``results/benchmarks/<name>.jsonl``: benchmarks/record.py). A
 passage whose files are not in the results folder is left as it is, and said so. Run after
 ``make workflow`` (and ``snakemake comparison``, and the benchmarks)::
 
@@ -17,7 +18,6 @@ import argparse
 import json
 import math
 import re
-import subprocess
 import sys
 from datetime import datetime
 from pathlib import Path
@@ -29,6 +29,9 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table
 
 ROOT = Path(__file__).resolve().parents[1]
+# The benchmarks' kept runs, read as benchmarks/record.py keeps them.
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from record import commit, kept  # noqa: E402
 
 
 def _quality(results, eye):
@@ -43,9 +46,7 @@ def _delta_rho(results, eye):
 def _commit(results):
     """The commit of the checkout whose run made ``results`` (the folder beside its ``results``): its commit now, so
     write the passages before that checkout moves on."""
-    done = subprocess.run(["git", "-C", str(results.parent), "rev-parse", "--short", "HEAD"], capture_output=True,
-                          text=True)
-    return done.stdout.strip() or "this checkout"
+    return commit(results.parent) or "this checkout"
 
 
 def worker_eye(results, eyes_dir):
@@ -164,11 +165,6 @@ def compass(results, eyes_dir):
             "of\nreceptor noise does not feel.*")
 
 
-def _kept(results, name):
-    """A benchmark's kept runs (benchmarks/record.py), oldest first."""
-    return [json.loads(line) for line in (results / "benchmarks" / f"{name}.jsonl").read_text().splitlines() if line]
-
-
 def _span(values, digits):
     """Values as a range, "low–high", or one value where they agree to ``digits``."""
     low, high = f"{min(values):,.{digits}f}", f"{max(values):,.{digits}f}"
@@ -177,7 +173,7 @@ def _span(values, digits):
 
 def daylight(results, eyes_dir):
     """The clear-sky daylight against measured daylight, from benchmarks/daylight.py's last run."""
-    run = _kept(results, "daylight")[-1]
+    run = kept(results, "daylight")[-1]
     lines = [f"| sun | UV/VIS photons, model | Granada (records) | UV/G catch, model | Granada | from 360 nm: UV/G, "
              f"model | Spitschan (records) |", "|---|---|---|---|---|---|---|"]
 
@@ -196,7 +192,7 @@ def daylight(results, eyes_dir):
 
 def noise(results, eyes_dir):
     """The noise of each way of sampling the sky, from benchmarks/noise.py's last run in each scene."""
-    runs = {r["scene"]: r for r in _kept(results, "noise")}
+    runs = {r["scene"]: r for r in kept(results, "noise")}
     lines = ["| scene | estimator | G median | G p90 | trace, s | efficiency (escape's p90² · time over the "
              "default's) |", "|---|---|---|---|---|---|"]
     for scene, run in runs.items():
@@ -218,7 +214,7 @@ def noise(results, eyes_dir):
 def speed(results, eyes_dir):
     """The tracer's speed, from benchmarks/trace.py's last three runs of each setting."""
     groups = {}
-    for r in _kept(results, "trace"):
+    for r in kept(results, "trace"):
         groups.setdefault((r["eye"], r["spp"], r["depth"], r["scene"], r["threads"]), []).append(r)
     lines = ["| eye pair, samples, depth | scene | threads | trace, s | whole stage, s | Embree share (CPU, one "
              "thread) | bare Embree, M rays/s | peak, MB |", "|---|---|---|---|---|---|---|---|"]
@@ -256,7 +252,7 @@ def workflow(results, eyes_dir):
 def coating(results, eyes_dir):
     """What the grass's coating changes, from benchmarks/coating.py's last run: over the receptors looking below the
     horizon, where the grass is, and over all."""
-    run = _kept(results, "coating")[-1]
+    run = kept(results, "coating")[-1]
     lines = [f"| receptor class | receptors | catch change, median / 90th percentile | between two seeds (noise) | "
              f"degree of polarisation change, median / 90th percentile | between two seeds | median degree, "
              f"Lambertian → coated |", "|---|---|---|---|---|---|---|"]

@@ -91,7 +91,8 @@ def test_the_albedo_table_is_fresnels_in_the_smooth_limit_and_falls_with_roughne
 @pytest.mark.parametrize("coat, field", [({"roughness": 0.0}, "coating.roughness"),
                                          ({"roughness": 2.0}, "coating.roughness"),
                                          ({"roughness": 0.1, "refractive_index": 0.5}, "coating.refractive_index"),
-                                         ({"rough": 0.1}, "coating")])
+                                         ({"rough": 0.1}, "coating"),
+                                         ({"roughness": 0.1, "in_reflectance": "yes"}, "coating.in_reflectance")])
 def test_a_bad_coating_is_named(tmp_path, wavelengths, coat, field):
     with pytest.raises(InputError, match=field.replace(".", r"\.")):
         scene_file(tmp_path, wavelengths, UNIFORM, {"wax": {"reflectance": 0.2, "coating": coat}}, [ground("wax")])

@@ -186,6 +186,7 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
                             "az": json.dumps(np.round(az, 3).tolist()), "el": json.dumps(np.round(el, 3).tolist()),
                             "big": 3 * SPHERE_MARKER}
     page = fig.to_plotly_json()
+    # The receptors' traces: the map, the globe and, where there is one, the colour space.
     for k in (0, 1, *linked[1:]):
         page["data"][k]["marker"]["color"] = hexes[first]
     html = pio.to_html(page, validate=False, include_plotlyjs=True, full_html=True, post_script=script, div_id=DIV_ID,

@@ -188,9 +188,7 @@ def material(spec, wavelengths, base_dir, source, name):
     n = (coat if "coating" in spec else gloss).get("refractive_index", CUTICLE_REFRACTIVE_INDEX)
     if not isinstance(n, (int, float)) or not 1.0 <= n <= 4.0:
         raise InputError(source, f"{field}.{surface}.refractive_index", "a refractive index must be a number in [1, 4]")
-    if coat.get("in_reflectance", False) is not False:
-        if coat["in_reflectance"] is not True:
-            raise InputError(source, f"{field}.coating.in_reflectance", "true or false")
+    if coat.get("in_reflectance", False):
         # What the coating reflects at normal incidence, taken out of the measured reflectance.
         reflected = 1.0 - through(1.0, albedo_table(alpha, n))
         rho = np.maximum(rho - reflected, 0.0) / (1.0 - reflected)

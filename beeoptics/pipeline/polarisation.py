@@ -196,7 +196,8 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=
     for name, turbidity, scene in conditions:
         log.info("compass: %s", name)
         key = traced_alike(scene)
-        read_before[key] = read_before[key] if key in read_before else read(scene)
+        if key not in read_before:
+            read_before[key] = read(scene)
         estimate, confidence, truth, hidden = read_before[key]
         error = sky_compass.wrap_deg(estimate - truth)
         rows["condition"] += [name] * headings
