@@ -9,7 +9,7 @@ from beeoptics.io.errors import InputError
 from beeoptics.world import placement, plants, terrain
 from beeoptics.world.flight import (Flight, approach, azimuth_elevation_components, disc_angular_diameter, disc_hits,
                                     frame_times, optic_flow, pose, read_flight)
-from beeoptics.world.meadow import FLOWER_COLUMNS, flower_table, generate, read_meadow, write_ply
+from beeoptics.world.meadow import FLOWER_COLUMNS, check_meadow, expected_triangles, flower_table, generate, read_meadow, write_ply
 from beeoptics.world.species import PARTS, plant, species_table
 from conftest import ROOT
 
@@ -74,7 +74,7 @@ def test_the_ground_has_the_asked_roughness_and_correlation_length():
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
     meadow = read_meadow(TINY / "meadow.yaml")
-    mesh, colours, _ = generate(meadow, TINY / "meadow.yaml")
+    mesh, colours, _ = generate(meadow)
     out = tmp_path_factory.mktemp("meadow") / "meadow.ply"
     write_ply(out, mesh, colours)
     return meadow, mesh, colours, out
@@ -83,12 +83,12 @@ def tiny(tmp_path_factory):
 def test_a_meadow_is_the_same_for_the_same_seed_and_a_new_species_leaves_the_rest(tiny, tmp_path):
     meadow, mesh, colours, out = tiny
     again = tmp_path / "again.ply"
-    write_ply(again, *generate(read_meadow(TINY / "meadow.yaml"), TINY / "meadow.yaml")[:2])
+    write_ply(again, *generate(read_meadow(TINY / "meadow.yaml"))[:2])
     assert again.read_bytes() == out.read_bytes()
     more = read_meadow(TINY / "meadow.yaml")
     more["plants"].append({"species": "echium_vulgare", "density_per_m2": 20.0, "per_clump": 1.0, "spread_m": 0.1,
                            "variants": 2})
-    bigger, _, _ = generate(more, "meadow.yaml")
+    bigger, _, _ = generate(more)
     assert len(bigger.faces) > len(mesh.faces)
     np.testing.assert_array_equal(bigger.vertices[:len(mesh.vertices)], mesh.vertices)
 
@@ -126,8 +126,57 @@ def test_an_unknown_species_is_one_line_naming_the_file():
     meadow = read_meadow(TINY / "meadow.yaml")
     meadow["plants"].append({"species": "bellis_perenis", "density_per_m2": 1.0, "per_clump": 1.0,
                              "spread_m": 0.1, "variants": 1})
-    with pytest.raises(InputError, match="meadow.yaml: plants: unknown species 'bellis_perenis'"):
-        generate(meadow, "meadow.yaml")
+    with pytest.raises(InputError, match="meadow.yaml: plants.2.species: unknown species 'bellis_perenis'"):
+        check_meadow(meadow, "meadow.yaml")
+
+
+def edited_meadow(tmp_path, edit):
+    """The shipped meadow file, edited, in tmp_path."""
+    meadow = yaml.safe_load((ROOT / "scenes" / "meadow" / "meadow.yaml").read_text())
+    edit(meadow)
+    path = tmp_path / "meadow.yaml"
+    path.write_text(yaml.safe_dump(meadow))
+    return path
+
+
+@pytest.mark.parametrize("edit, field", [
+    (lambda m: m["grass"].update(length_m=[0.30, 0.10]), "grass.length_m"),
+    (lambda m: m["specimens"][0]["sizes"].update(stem_height_m=[0.3, 0.2]), "specimens.0.sizes.stem_height_m"),
+    (lambda m: m.update(species={"mine": {"form": "composite", "stem_height_m": [0.5, 0.1], "colours": {}}}),
+     "species.mine.stem_height_m"),
+])
+def test_a_range_that_runs_backwards_is_one_line_naming_the_file_and_field(tmp_path, edit, field):
+    path = edited_meadow(tmp_path, edit)
+    with pytest.raises(InputError, match="runs backwards") as e:
+        read_meadow(path)
+    assert e.value.field == field and str(path) in str(e.value) and "\n" not in str(e.value)
+
+
+def test_a_meadow_larger_than_the_machine_holds_is_refused_before_any_of_it_is_made(tmp_path):
+    """2000 × 3000 m of the shipped meadow is some 10¹¹ triangles: refused with the limit and what would fit,
+    in a process whose address space is capped at 4 GiB (an attempt to generate it fails there, harmlessly)."""
+    import resource
+    import subprocess
+    import sys
+
+    path = edited_meadow(tmp_path, lambda m: m.update(extent_m=[2000.0, 3000.0]))
+    cap = lambda: resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))  # noqa: E731
+    result = subprocess.run([sys.executable, "-m", "beeoptics.cli", "meadow", str(path), "-o", str(tmp_path / "m.ply")],
+                            capture_output=True, text=True, timeout=120, preexec_fn=cap)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.count("\n") == 1, result.stderr
+    assert f"{path}: grass.density_per_m2: a meadow of 2000 × 3000 m would have about" in result.stderr
+    assert "GiB to generate" in result.stderr and "m² at these densities" in result.stderr
+    assert not (tmp_path / "m.ply").exists()
+
+
+def test_the_expected_triangles_match_a_generated_meadow():
+    """The estimate the memory check rests on is within a tenth of the triangles 2 × 2 m of the shipped meadow has
+    (a patch large enough for its densities to hold)."""
+    meadow = read_meadow(ROOT / "scenes" / "meadow" / "meadow.yaml")
+    meadow["extent_m"] = [2.0, 2.0]
+    expected = sum(expected_triangles(meadow).values())
+    assert expected == pytest.approx(len(generate(meadow)[0].faces), rel=0.1)
 
 
 def test_optic_flow_of_pure_translation_and_rotation():
@@ -194,7 +243,7 @@ def test_a_bad_flight_is_one_line_naming_the_field(tmp_path, text, field):
 
 def test_the_default_meadow_has_a_million_triangles_and_every_species_flowers():
     meadow = read_meadow(ROOT / "scenes" / "meadow" / "meadow.yaml")
-    mesh, colours, flowering = generate(meadow, "meadow.yaml")
+    mesh, colours, flowering = generate(meadow)
     assert len(mesh.faces) >= 1_000_000
     species = {p.split(".")[0] for p in mesh.parts}
     assert species >= {"grass", "soil", "leucanthemum_vulgare", "taraxacum_officinale", "achillea_millefolium",

@@ -18,7 +18,7 @@ MEADOW_FILE, MEADOW_MESH, MEADOW_FLOWERS = "meadow.yaml", "meadow.ply", "meadow_
 
 def generate_meadow(meadow_file, outputs):
     """Generate the meadow of ``meadow_file``; return the number of triangles of each species (and the grass, soil)."""
-    mesh, colours, species = generate(read_meadow(meadow_file), meadow_file)
+    mesh, colours, species = generate(read_meadow(meadow_file))
     write_ply(outputs["mesh"], mesh, colours)
     if "flowers" in outputs:
         write_table(outputs["flowers"], flower_table(mesh, species))

@@ -18,6 +18,8 @@ so that the same file gives the same meadow, and adding a species leaves
 the others as they were.
 """
 
+import os
+
 import numpy as np
 import pymeshlab
 
@@ -57,18 +59,11 @@ def _yaw(angles):
     return r
 
 
-def generate(meadow, source="meadow.yaml"):
-    """The meadow described by ``meadow`` (a checked meadow file): a Mesh (its ``flowers`` every flower in
-    the meadow), its face colours (m, 3), uint8, and each flower's species (k,).
-
-    Raises
-    ------
-    InputError
-        If a plant names an unknown species, or a species misses a colour.
+def generate(meadow):
+    """The meadow described by ``meadow`` (a meadow file as :func:`read_meadow` reads and checks it): a Mesh
+    (its ``flowers`` every flower in the meadow), its face colours (m, 3), uint8, and each flower's species (k,).
     """
     table = species_table(meadow["species"])
-    for name, spec in meadow["species"].items():
-        check_species(spec, name, source, f"species.{name}")
     extent = np.asarray(meadow["extent_m"], float)
     seed = meadow["seed"]
 
@@ -104,8 +99,6 @@ def generate(meadow, source="meadow.yaml"):
                                                                         enumerate(meadow["plants"])]
     for group, k, entry in entries:
         name = entry["species"]
-        if name not in table:
-            raise InputError(source, group, f"unknown species {name!r}; there are {', '.join(sorted(table))}")
         spec = {**table[name], **entry.get("sizes", {})}
         rng = _rng(seed, (2 if group == "specimens" else 3, k))
         variants = [plant(spec, rng, upright="position_m" in entry) for _ in range(entry["variants"])]
@@ -154,6 +147,87 @@ def write_ply(path, mesh, face_colours):
                              save_vertex_quality=False, save_face_quality=False)
 
 
+#: Peak memory of generating a meadow and writing its PLY, bytes per triangle: measured as the growth of the
+#: process's maximum resident set over generate() and write_ply() of scenes/meadow/meadow.yaml at 4 × 4 m
+#: (1.18 million triangles, 577 B each) and 8 × 8 m (4.59 million, 568 B each), rounded up.
+BYTES_PER_TRIANGLE = 600
+#: The share of the machine's physical memory a meadow may take while generated: the rest is left to the
+#: system and to the jobs that run beside it (the scene's tracing then holds the mesh again, in Open3D).
+MEMORY_SHARE = 0.5
+
+
 def read_meadow(path):
-    """A meadow file, checked against its schema with defaults filled in."""
-    return validate(load_yaml(path), "meadow", path)
+    """A meadow file, checked against its schema with defaults filled in, its ranges ordered and its size
+    within what the machine can hold (:func:`check_work`), before any of it is generated."""
+    return check_meadow(validate(load_yaml(path), "meadow", path), path)
+
+
+def check_meadow(meadow, source):
+    """Refuse, naming ``source`` and the field, a meadow file (checked against its schema) that names an
+    range whose low end is above its high end, an unknown species or one missing a colour, or is larger
+    than the machine can hold (:func:`check_work`); return it."""
+    for field, (low, high) in _ranges(meadow):
+        if low > high:
+            raise InputError(source, field, f"the range [{low:g}, {high:g}] runs backwards; give it as [low, high]")
+    table = species_table(meadow["species"])
+    for name, spec in meadow["species"].items():
+        check_species(spec, name, source, f"species.{name}")
+    for group in ("specimens", "plants"):
+        for k, entry in enumerate(meadow[group]):
+            if entry["species"] not in table:
+                raise InputError(source, f"{group}.{k}.species", f"unknown species {entry['species']!r}; there are "
+                                 f"{', '.join(sorted(table))}")
+    check_work(meadow, source)
+    return meadow
+
+
+def _ranges(meadow):
+    """Every [low, high] range of a meadow file: (dotted field, pair)."""
+    pairs = [(f"grass.{k}", v) for k, v in meadow["grass"].items()]
+    pairs += [(f"specimens.{i}.sizes.{k}", v) for i, s in enumerate(meadow["specimens"]) for k, v in s["sizes"].items()]
+    pairs += [(f"species.{n}.{k}", v) for n, spec in meadow["species"].items() for k, v in spec.items()]
+    return [(field, v) for field, v in pairs
+            if isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) for x in v)]
+
+
+def expected_triangles(meadow):
+    """The triangles a meadow file's mesh will have, estimated without generating it: the ground's grid,
+    and each density times the area times the triangles of one blade or one plant of the species (one built,
+    from random numbers of seed 0), for each component: a dict of component (as :func:`check_work` names it) to
+    triangles."""
+    extent = np.asarray(meadow["extent_m"], float)
+    area = float(np.prod(extent))
+    cells = np.prod(np.ceil(extent / meadow["ground"]["spacing_m"]))
+    counts = {"soil": 2.0 * cells}
+    one = np.ones(1)
+    counts["grass"] = meadow["grass"]["density_per_m2"] * area * len(plants.blades(0.1 * one, 0.003 * one, 0.0 * one,
+                                                                                   0.0 * one, 0.0 * one).faces)
+    table = species_table(meadow["species"])
+    for k, entry in enumerate(meadow["plants"]):
+        built = plant(table[entry["species"]], np.random.default_rng(0))
+        counts[f"plants.{k}"] = entry["density_per_m2"] * area * len(built.faces)
+    return counts
+
+
+def memory_limit_bytes():
+    """The memory a meadow may take while generated: :data:`MEMORY_SHARE` of the machine's physical memory."""
+    return MEMORY_SHARE * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+
+
+def check_work(meadow, source, limit_bytes=None):
+    """Refuse a meadow whose mesh would not fit in memory (:func:`expected_triangles` ×
+    :data:`BYTES_PER_TRIANGLE` against :func:`memory_limit_bytes`), naming what takes most of it."""
+    limit_bytes = memory_limit_bytes() if limit_bytes is None else limit_bytes
+    counts = expected_triangles(meadow)
+    total = sum(counts.values())
+    if total * BYTES_PER_TRIANGLE <= limit_bytes:
+        return
+    most = max(counts, key=counts.get)
+    field = {"soil": "ground.spacing_m", "grass": "grass.density_per_m2"}.get(most, f"{most}.density_per_m2")
+    extent = meadow["extent_m"]
+    fits = limit_bytes / BYTES_PER_TRIANGLE / total
+    raise InputError(source, field, f"a meadow of {extent[0]:g} × {extent[1]:g} m would have about {total:.2g} "
+                     f"triangles ({100 * counts[most] / total:.0f} % from {most}), {total * BYTES_PER_TRIANGLE / 2**30:.3g} "
+                     f"GiB to generate at {BYTES_PER_TRIANGLE} bytes each; this machine allows {limit_bytes / 2**30:.3g} "
+                     f"GiB ({MEMORY_SHARE:.0%} of its memory): shrink extent_m or the densities by {1 / fits:.3g} times "
+                     f"(to {fits * np.prod(extent):.3g} m² at these densities)")
