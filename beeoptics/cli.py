@@ -185,7 +185,7 @@ def render(args):
     Receptors without an eye file (imported from a CompoundRay eye, say) get
     no retinal images, which need the eye's placement on the head.
     """
-    from beeoptics.eye.description import load_eye
+    from beeoptics.eye.description import check_receptors_of, load_eye
     from beeoptics.light.batching import TraceSettings
     from beeoptics.pipeline import images
     from beeoptics.pipeline.trace import gather_responses, trace_part
@@ -195,7 +195,7 @@ def render(args):
     spectral, background = config["spectral"], config["colour"]["background"]
     # Refused now rather than after a trace of minutes.
     if args.eye is not None:
-        load_eye(args.eye)
+        check_receptors_of(load_eye(args.eye), args.receptors, read_receptors(args.receptors))
     receptor_set = (receptor_set_of(args.eye) if args.eye is not None and args.receptors_set is None else
                     load_receptor_set(args.receptors_set or DEFAULT_SET, source="command line",
                                       field="--receptor-set"))

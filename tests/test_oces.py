@@ -317,16 +317,22 @@ def test_a_missing_mandatory_property_warns_and_takes_the_default(tmp_path, tabl
     path, doc = written(tmp_path, right)
     del extension(doc)["eyes"][0]["ommatidialProperties"][missing]
     centre = np.array(doc["nodes"][1]["translation"])[[2, 0, 1]] * 1000
-    diameter_mm = raw(doc, 0, "DIAMETER")[:, 0].astype(float) if missing != "DIAMETER" else 1.0
+    if missing == "DIAMETER":
+        # OCES's default facet, 1 mm, is no insect's (5–100 µm), and its Δρ, 53° at a 1 mm focal offset, no
+        # ommatidium's: the table is refused once the default is taken.
+        with pytest.warns(OcesWarning, match=f"lacks mandatory {missing}"), \
+                pytest.raises(InputError, match="delta_rho_deg: receptor [0-9]+: an acceptance angle above 30°"):
+            read_oces(save(path, doc))
+        return
+    diameter_mm = raw(doc, 0, "DIAMETER")[:, 0].astype(float)
     w_mm = raw(doc, 0, "FOCAL_OFFSET")[:, 0].astype(float) if missing != "FOCAL_OFFSET" else -1.0
     with pytest.warns(OcesWarning, match=f"lacks mandatory {missing}"):
         got = read_oces(save(path, doc))
     # Defaults are in the eye node's units, mm here: POSITION [0, 0, 0] is the node's origin,
-    # ORIENTATION [0, 0, 1] the HCS's +Z, the head's anterior; DIAMETER 1 mm, FOCAL_OFFSET -1 mm.
+    # ORIENTATION [0, 0, 1] the HCS's +Z, the head's anterior; FOCAL_OFFSET -1 mm.
     expected = {
         "POSITION": (got.position, np.broadcast_to(centre, right.position.shape)),
         "ORIENTATION": (got.axis, np.broadcast_to([1.0, 0.0, 0.0], right.axis.shape)),
-        "DIAMETER": (got.facet_diameter_um, np.full(len(right.id), 1000.0)),
         "FOCAL_OFFSET": (got.delta_rho_deg, np.degrees(2 * np.arctan(diameter_mm / 2 / 1.0))),
     }
     np.testing.assert_allclose(*expected[missing], rtol=1e-6, atol=1e-9)

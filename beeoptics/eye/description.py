@@ -7,6 +7,7 @@ measured at named anatomical anchors, and the published optics the eye is
 meant to reproduce, each with its source. See ``beeoptics/io/schemas/eye.schema.yaml``.
 """
 
+import json
 from pathlib import Path
 from typing import NamedTuple
 
@@ -117,6 +118,44 @@ def load_eye(path):
         delta_rho=doc.get("optics", {}).get("delta_rho"),
         published=doc.get("published", {}), receptors=doc["receptors"], document=doc,
     )
+
+
+#: How far a receptor table's count per eye may stray from its eye's, as a share, before the table is taken for
+#: another eye's: the built eyes hold their count exactly, a measured eye its table's (its published count beside
+#: it within 15 %: the fly's 699 charted of about 800), while the eyes this package ships differ by more (the fly's
+#: 699, the queen's 3,500, the worker's 5,432, the drone's 9,973).
+COUNT_SHARE = 0.25
+
+
+def check_receptors_of(eye, receptors_csv, table):
+    """Refuse a receptor table that is not this eye's: the eye its quality.json names (build-eye writes one beside
+    every table), or without one a count per eye more than :data:`COUNT_SHARE` from the eye's.
+
+    Parameters
+    ----------
+    eye : EyeDescription
+    receptors_csv : path
+        The table's file, beside which its ``quality.json`` is looked for.
+    table : ReceptorTable
+        Its receptors.
+
+    Raises
+    ------
+    InputError
+        Naming ``receptors_csv``, the eye the table was built for and the eye it is not.
+    """
+    quality = Path(receptors_csv).parent / "quality.json"
+    try:
+        built_for = json.loads(quality.read_text()).get("eye") if quality.is_file() else None
+    except (OSError, ValueError, AttributeError):
+        built_for = None
+    if built_for is not None and built_for != eye.name:
+        raise InputError(receptors_csv, "", f"built for the eye {built_for!r} (its {quality.name}), not for "
+                         f"{eye.name!r} ({eye.path}): give the eye it was built for")
+    count = int(np.sum(np.asarray(table.side).astype(str) == RIGHT))
+    if built_for is None and abs(count - eye.facet_count) > COUNT_SHARE * eye.facet_count:
+        raise InputError(receptors_csv, "", f"{count} receptors an eye, where the eye {eye.name!r} ({eye.path}) "
+                         f"has {eye.facet_count}: the table is another eye's")
 
 
 def _cornea(path, source):

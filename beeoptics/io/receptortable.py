@@ -29,6 +29,7 @@ Eyes that describe a dorsal rim area add two columns
     empty (NaN) outside the area, where the rhabdoms twist.
 """
 
+import logging
 from typing import NamedTuple
 
 import numpy as np
@@ -37,12 +38,24 @@ from beeoptics.headframe import EYE_SIZE_MM, SIDES
 from beeoptics.io.errors import InputError
 from beeoptics.io.table import read_table, write_table
 
+log = logging.getLogger("beeoptics")
+
 COLUMNS = ("id", "side", "x", "y", "z", "ax", "ay", "az",
            "facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
 #: The columns that measure a receptor's optics, one number each.
 MEASURES = ("facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
 #: Columns of eyes with a dorsal rim area.
 DORSAL_RIM_COLUMNS = ("dorsal_rim", "microvilli_deg")
+#: Insect facet diameters, µm: about 5 to 100 (Land & Nilsson 2012, Animal Eyes, 2nd ed., ch. 7); a diameter
+#: outside them is in other units (0.02 is millimetres) or not a facet's.
+FACET_DIAMETER_UM = (5.0, 100.0)
+#: Acceptance angles of compound eyes' receptors, degrees: 0.5 to 20 as measured (Land 1997, Annu Rev Entomol
+#: 42:147), warned of outside them; beyond 30 (the config's largest Δρ) a receptor would see a sixth of the
+#: sphere at half its sensitivity, which no ommatidium does, and is refused.
+DELTA_RHO_DEG, DELTA_RHO_MAX_DEG = (0.5, 20.0), 30.0
+#: Neighbouring axes more than a right angle apart (Δφ, degrees) belong to no compound eye: compound eyes' Δφ
+#: run from 0.24° to some 20° (Land 1997).
+DELTA_PHI_MAX_DEG = 90.0
 
 
 class ReceptorTable(NamedTuple):
@@ -110,7 +123,9 @@ def checked(table, path):
     """The table with unit axes, once every receptor is found usable for tracing.
 
     A receptor needs a finite position, an axis of finite, non-zero length,
-    a positive, finite acceptance angle and a side of :data:`~beeoptics.headframe.SIDES`;
+    a positive, finite acceptance angle of at most :data:`DELTA_RHO_MAX_DEG` (warned of outside
+    :data:`DELTA_RHO_DEG`), a facet diameter within :data:`FACET_DIAMETER_UM`, a Δφ within
+    (0, :data:`DELTA_PHI_MAX_DEG`] and a side of :data:`~beeoptics.headframe.SIDES`;
     ids must be whole and unique; each eye must be of a size bee eyes have
     (:data:`~beeoptics.headframe.EYE_SIZE_MM`), or its positions are in other
     units than millimetres (all at one point is a pinhole eye, and allowed). Δφ and the facet diameter may be missing (NaN):
@@ -128,15 +143,29 @@ def checked(table, path):
         raise InputError(path, "id", f"receptor {_first(ids, _repeated(ids))} appears twice")
     length = np.linalg.norm(table.axis, axis=1)
     drho = np.asarray(table.delta_rho_deg, float)
+    facet = np.asarray(table.facet_diameter_um, float)
+    dphi = np.asarray(table.delta_phi_deg, float)
+    low, high = FACET_DIAMETER_UM
     for column, bad, message in (
         ("side", ~np.isin(np.asarray(table.side).astype(str), SIDES), f"side must be one of {', '.join(SIDES)}"),
         ("x, y, z", ~np.isfinite(table.position).all(1), "the position is not finite"),
         ("ax, ay, az", ~np.isfinite(table.axis).all(1), "the axis is not finite"),
         ("ax, ay, az", length == 0.0, "the axis has zero length; a receptor needs a direction"),
         ("delta_rho_deg", ~(np.isfinite(drho) & (drho > 0)), "acceptance angles must be positive and finite"),
+        ("delta_rho_deg", drho > DELTA_RHO_MAX_DEG, f"an acceptance angle above {DELTA_RHO_MAX_DEG:g}° is no "
+         f"ommatidium's (compound eyes' are {DELTA_RHO_DEG[0]:g}–{DELTA_RHO_DEG[1]:g}°, Land 1997)"),
+        ("facet_diameter_um", ~np.isnan(facet) & ~((facet >= low) & (facet <= high)),
+         f"insect facets are {low:g}–{high:g} µm across (Land & Nilsson 2012): the column is in other units"),
+        ("delta_phi_deg", ~np.isnan(dphi) & ~((dphi > 0) & (dphi <= DELTA_PHI_MAX_DEG)),
+         f"an interommatidial angle must be above 0° and at most {DELTA_PHI_MAX_DEG:g}°"),
     ):
         if bad.any():
             raise InputError(path, column, f"receptor {_first(ids, bad)}: {message}")
+    unusual = (drho < DELTA_RHO_DEG[0]) | (drho > DELTA_RHO_DEG[1])
+    if unusual.any():
+        log.warning("%s: delta_rho_deg: %d receptors (the first %s, %.3g°) have acceptance angles outside the "
+                    "%g–%g° compound eyes have (Land 1997)", path, unusual.sum(), _first(ids, unusual),
+                    drho[unusual][0], *DELTA_RHO_DEG)
     if table.dorsal_rim is not None:
         rim = np.asarray(table.dorsal_rim, float)
         angle = np.asarray(table.microvilli_deg, float)

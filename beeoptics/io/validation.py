@@ -67,7 +67,7 @@ def _field_and_message(error):
         )
     elif error.validator == "required":
         path.append(next(k for k in error.validator_value if k not in error.instance))
-    elif error.validator in ("type", "minProperties", "maxProperties") and "title" in error.schema:
+    elif error.validator in ("type", "oneOf", "minProperties", "maxProperties") and "title" in error.schema:
         # A value of the wrong kind or shape is told what the field takes (the schema's title names it).
         message = f"{error.instance!r} is not {error.schema['title']}"
     return ".".join(path), message

@@ -14,6 +14,7 @@ to materials (per texel).
 """
 
 import difflib
+import logging
 from pathlib import Path
 from typing import NamedTuple
 
@@ -31,6 +32,12 @@ from beeoptics.light.materials import material, spectrum
 from beeoptics.light.sky import CLEAR_SKIES, Sky, clear_sky_dome, luminance, uniform_sky
 from beeoptics.light.sun import Sun, sun_disc
 from beeoptics.raycasting import embree_scene, first_hits, open3d
+
+log = logging.getLogger("beeoptics")
+#: A bee's scene is metres across: a meadow patch of a few, a pond, a board of patches (the ground planes that
+#: fill the horizon are primitives). A mesh larger than this, metres, or an eye placed farther from the origin,
+#: is warned of as likely modelled in millimetres (a 4 m meadow in mm is 4 km; its eye 0.35 m up, 350 m up).
+MILLIMETRES_HINT_M = 100.0
 
 
 class SceneObject(NamedTuple):
@@ -152,6 +159,19 @@ def bee_camera(position, head, width_px=320, height_px=240):
             "width_px": width_px, "height_px": height_px}
 
 
+def _warn_of_millimetres(data, objects, path):
+    """Warn, in one line naming the file and the field, of a scene whose sizes suggest millimetres
+    (:data:`MILLIMETRES_HINT_M`): a mesh object larger, or the eye farther from the origin."""
+    sizes = [(f"objects.{i}", float(np.ptp(o.vertices, axis=0).max()) if len(o.vertices) else 0.0)
+             for i, (o, spec) in enumerate(zip(objects, data["objects"])) if "mesh" in spec]
+    sizes.append(("eye.position_m", float(np.linalg.norm(data["eye"]["position_m"]))))
+    field, size = max(sizes, key=lambda item: item[1])
+    if size > MILLIMETRES_HINT_M:
+        log.warning("%s: %s: %.4g m %s: is the scene modelled in millimetres? (a bee's scene is metres: beyond "
+                    "%g m this warning is given; scale: 0.001 reads a mesh in mm)", path, field, size,
+                    "from the origin" if field == "eye.position_m" else "across", MILLIMETRES_HINT_M)
+
+
 def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=True):
     """Read and check a scene file.
 
@@ -204,6 +224,7 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=Tru
         raise InputError(path, "light", "the scene has no light: no sky, no sun above the horizon, "
                          "no object of an emitting material")
 
+    _warn_of_millimetres(data, objects, path)
     e = data["eye"]
     head = head_rotation(e["heading_deg"], e["pitch_deg"], e["roll_deg"])
     every = np.vstack([o.vertices for o in objects] + [np.zeros((1, 3))])

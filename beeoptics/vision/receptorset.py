@@ -166,6 +166,13 @@ def load_receptor_set(spec=DEFAULT_SET, base=None, source=None, field="receptors
         raise InputError(path, "colour.spaces", "the triangle, hexagon and COC are spaces of trichromats; "
                          f"this set's colour vision has {len(chromatic)} classes")
     lam = np.array([c.get("lambda_max_nm", np.nan) for c in doc["classes"]], float)
+    # Two classes at one peak are one class twice: their templates are the same curve (to the 1 nm λmax is given to).
+    same = np.abs(lam[:, None] - lam[None, :]) < 1.0
+    twice = np.argwhere(np.triu(same, 1))
+    if len(twice):
+        i, j = twice[0]
+        raise InputError(path, f"classes.{j}.lambda_max_nm", f"{classes[j]} peaks at {lam[j]:g} nm, as "
+                         f"{classes[i]} does: two classes need two peaks")
     curves = doc["curves"]
     curves_file = None
     if curves.get("file"):

@@ -34,6 +34,13 @@ from beeoptics.io.table import read_table
 from beeoptics.headframe import head_rotation
 
 COLUMNS = ["t_s", "x_m", "y_m", "z_m", "heading_deg", "pitch_deg", "roll_deg"]
+#: How far from the origin a flight may go, m: honey bees forage up to about 10 km from the hive (Beekman &
+#: Ratnieks 2000, Funct Ecol 14:490).
+REACH_M = 10000.0
+#: The fastest a flight may go, m/s: honey bees fly at up to about 8 m/s (von Frisch 1967, The Dance Language
+#: and Orientation of Bees); no insect flies at 50 m/s (180 km/h), which a flight written in millimetres, or
+#: with its times in milliseconds, exceeds.
+SPEED_MAX_M_S = 50.0
 
 
 class Flight(NamedTuple):
@@ -61,7 +68,9 @@ class Pose(NamedTuple):
 
 
 def read_flight(path):
-    """A flight CSV, checked: every column present and finite, time strictly increasing, two rows at least."""
+    """A flight CSV, checked: every column present and finite, time strictly increasing, two rows at least,
+    positions within :data:`REACH_M` of the origin and no faster than :data:`SPEED_MAX_M_S` between rows
+    (angles may take any value: they are turns, and a flight may turn round more than once)."""
     table = read_table(path, numeric=COLUMNS)
     missing = [c for c in COLUMNS if c not in table]
     if missing:
@@ -75,9 +84,19 @@ def read_flight(path):
         raise InputError(path, "t_s", "a flight needs at least two rows")
     if np.any(np.diff(t) <= 0):
         raise InputError(path, "t_s", f"time must increase from row to row (row {np.argmax(np.diff(t) <= 0) + 2})")
+    position = np.column_stack([table[c] for c in ("x_m", "y_m", "z_m")]).astype(float)
+    far = np.flatnonzero(np.abs(position).max(axis=1) > REACH_M)
+    if far.size:
+        raise InputError(path, "x_m, y_m, z_m", f"row {far[0] + 1} is more than {REACH_M:g} m from the origin, "
+                         "farther than bees forage: is the flight in millimetres?")
+    speed = np.linalg.norm(np.diff(position, axis=0), axis=1) / np.diff(t)
+    if speed.max() > SPEED_MAX_M_S:
+        raise InputError(path, "t_s", f"rows {np.argmax(speed) + 1}–{np.argmax(speed) + 2} fly at "
+                         f"{speed.max():.3g} m/s; no insect flies faster than {SPEED_MAX_M_S:g} m/s: are the "
+                         "positions in millimetres, or the times in milliseconds?")
     rotation = np.array([head_rotation(h, p, r) for h, p, r in
                          zip(table["heading_deg"], table["pitch_deg"], table["roll_deg"])])
-    return Flight(t, np.column_stack([table[c] for c in ("x_m", "y_m", "z_m")]).astype(float), rotation)
+    return Flight(t, position, rotation)
 
 
 def frame_times(flight, fps):
