@@ -199,9 +199,9 @@ def expected_triangles(meadow):
     area = float(np.prod(extent))
     cells = np.prod(np.ceil(extent / meadow["ground"]["spacing_m"]))
     counts = {"soil": 2.0 * cells}
-    one = np.ones(1)
-    counts["grass"] = meadow["grass"]["density_per_m2"] * area * len(plants.blades(0.1 * one, 0.003 * one, 0.0 * one,
-                                                                                   0.0 * one, 0.0 * one).faces)
+    # A blade's triangles do not depend on its sizes: one of unit length, width and angles counts them.
+    blade = plants.blades(*np.ones((5, 1)))
+    counts["grass"] = meadow["grass"]["density_per_m2"] * area * len(blade.faces)
     table = species_table(meadow["species"])
     for k, entry in enumerate(meadow["plants"]):
         built = plant(table[entry["species"]], np.random.default_rng(0))
