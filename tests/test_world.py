@@ -267,3 +267,13 @@ def test_the_default_meadow_has_a_million_triangles_and_every_species_flowers():
     palette = yaml.safe_load((ROOT / "scenes" / "meadow" / "scene.yaml").read_text())["objects"][1]["palette"]
     used = {f"#{r:02x}{g:02x}{b:02x}" for r, g, b in np.unique(colours, axis=0)}
     assert used <= set(palette)
+
+
+@pytest.mark.parametrize("size, value", [("stem_height_m", [-0.1, 0.3]), ("stem_height_m", [0.3, 300.0]),
+                                         ("rays", [13, 3400]), ("leaf_height_fraction", [0.0, 2.0])])
+def test_a_meadow_species_of_impossible_sizes_is_refused_naming_the_size(tmp_path, size, value):
+    daisy = {**species_table()["leucanthemum_vulgare"], size: value}
+    path = edited_meadow(tmp_path, lambda m: m.update(species={"mine": daisy}))
+    with pytest.raises(InputError) as e:
+        read_meadow(path)
+    assert e.value.field.startswith(f"species.mine.{size}") and "\n" not in str(e.value)
