@@ -9,7 +9,8 @@ from beeoptics.io.errors import InputError
 from beeoptics.world import placement, plants, terrain
 from beeoptics.world.flight import (Flight, approach, azimuth_elevation_components, disc_angular_diameter, disc_hits,
                                     frame_times, optic_flow, pose, read_flight)
-from beeoptics.world.meadow import FLOWER_COLUMNS, check_meadow, expected_triangles, flower_table, generate, read_meadow, write_ply
+from beeoptics.world.meadow import (FLOWER_COLUMNS, check_meadow, expected_triangles, flower_table, generate, read_meadow,
+                                   write_ply)
 from beeoptics.world.species import PARTS, plant, species_table
 from conftest import ROOT
 

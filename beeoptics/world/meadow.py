@@ -226,8 +226,10 @@ def check_work(meadow, source, limit_bytes=None):
     field = {"soil": "ground.spacing_m", "grass": "grass.density_per_m2"}.get(most, f"{most}.density_per_m2")
     extent = meadow["extent_m"]
     fits = limit_bytes / BYTES_PER_TRIANGLE / total
+    gib = 2.0**30
     raise InputError(source, field, f"a meadow of {extent[0]:g} × {extent[1]:g} m would have about {total:.2g} "
-                     f"triangles ({100 * counts[most] / total:.0f} % from {most}), {total * BYTES_PER_TRIANGLE / 2**30:.3g} "
-                     f"GiB to generate at {BYTES_PER_TRIANGLE} bytes each; this machine allows {limit_bytes / 2**30:.3g} "
-                     f"GiB ({MEMORY_SHARE:.0%} of its memory): shrink extent_m or the densities by {1 / fits:.3g} times "
-                     f"(to {fits * np.prod(extent):.3g} m² at these densities)")
+                     f"triangles ({100 * counts[most] / total:.0f} % from {most}), "
+                     f"{total * BYTES_PER_TRIANGLE / gib:.3g} GiB to generate at {BYTES_PER_TRIANGLE} bytes each; "
+                     f"this machine allows {limit_bytes / gib:.3g} GiB ({MEMORY_SHARE:.0%} of its memory): shrink "
+                     f"extent_m or the densities by {1 / fits:.3g} times (to {fits * np.prod(extent):.3g} m² at "
+                     "these densities)")
