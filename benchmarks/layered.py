@@ -10,16 +10,17 @@ incidence and viewing angles 0–85° and base albedos 0.2, 0.5, 0.8 and 1, for 
   - Kelemen & Szirmay-Kalos's coupling with the base's own albedo, ρ/π (1 − E_i)(1 − E_o)/(1 − Ē) (the coating's
     until this benchmark was written);
   - Mitsuba 3's roughplastic with nonlinear internal scattering, ρ/π T_i T_o / (η² (1 − ρ F_dr)), T the rough
-    interface's transmittance and F_dr its internal diffuse reflectance, integrated over the visible normals (64 × 64
-    midpoints, at 64 cosines, as its eval_transmittance and eval_reflectance do);
+    interface's transmittance and F_dr its internal diffuse reflectance, integrated over the visible normals at 64
+    cosines, as its eval_transmittance and eval_reflectance do (here by 64 × 64 midpoints, there by Gauss–Legendre);
   - the same with its default, linear, internal scattering (1 − F_dr in place of 1 − ρ F_dr);
   - the coating as it is: Kelemen's coupling with the base's albedo through the coating's internal reflections,
-    ρ' = ρ (1 − F_dr)/(1 − ρ F_dr), F_dr = 1 − (1 − Ē)/η² (beeoptics.light.coating.base_albedo).
-The last line printed is one JSON object: for each model its relative error against the walk (``error``), and that of its
-dependence on the albedo (``albedo``: f(ρ)/f(1) against the walk's, for ρ < 1, free of what both make of a white base),
-median and largest over angles and albedos, per roughness (``by_alpha``) and over all (``all``); the walk's white base's
-albedo at normal incidence (``white``: 1 less what its interface loses); and the walk's own Monte Carlo error (the largest
-standard error relative to its value, ``walk_error``).
+    ρ' = ρ (1 − F_dr)/(1 − ρ F_dr), F_dr the coating's hemispherical albedo from inside
+    (beeoptics.light.coating.base_albedo).
+The last line printed is one JSON object: for each model its relative error against the walk (``error``), and that of
+its dependence on the albedo (``albedo``: f(ρ)/f(1) against the walk's, for ρ < 1, free of what both make of a white
+base), median and largest over angles and albedos, per roughness (``by_alpha``) and over all (``all``); the walk's
+white base's albedo at normal incidence (``white``: 1 less what its interface loses); and the walk's own Monte Carlo
+error (the largest standard error relative to its value, ``walk_error``).
 """
 
 import argparse
@@ -41,8 +42,8 @@ NODES = 64
 
 
 def roughplastic(mu_i, mu_o, rho, alpha, eta, nonlinear=True):
-    """Mitsuba 3's roughplastic base term, per steradian, its interface's integrals by midpoints over the visible
-    normals."""
+    """Mitsuba 3's roughplastic base term, per steradian (src/bsdfs/roughplastic.cpp), its interface's integrals by
+    midpoints over the visible normals."""
     from beeoptics.light.layered import interface
 
     u = (np.arange(NODES) + 0.5) / NODES

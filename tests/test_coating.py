@@ -121,9 +121,9 @@ def test_a_reflectance_measured_whole_is_what_the_coated_surface_reflects_at_nor
 
 
 def test_the_random_walk_is_the_smooth_coatings_closed_form():
-    """A smooth interface (α 10⁻⁴) over a grey or white base: the walk gives ρ T_i T_o / (π η² (1 − ρ F_dr)), T = 1 − F
-    Fresnel's transmittance and F_dr = 2∫ F(μ, 1/η) μ dμ its internal diffuse reflectance (0.596 for η = 1.5), within the walk's noise,
-    Saunderson's (1942) sum of the internal reflections."""
+    """A smooth interface (α 10⁻⁴) over a grey or white base: the walk gives ρ T_i T_o / (π η² (1 − ρ F_dr)) within its
+    noise, T = 1 − F Fresnel's transmittance and F_dr = 2∫ F(μ, 1/η) μ dμ its internal diffuse reflectance (0.596 for
+    η = 1.5), Saunderson's (1942) sum of the internal reflections."""
     eta, mu = 1.5, np.array([1.0, 0.5, 0.2])
     cos = (np.arange(100000) + 0.5) / 100000
     internal = 2.0 * np.mean(layered.fresnel_mean(cos, 1.0 / eta) * cos)
@@ -139,8 +139,9 @@ def test_the_base_depends_on_its_albedo_as_the_layered_models_random_walk(tmp_pa
     """The coated base's light relative to a white base's, f(ρ)/f(1), is the layered model's exact answer (the random
     walk between interface and base, :mod:`beeoptics.light.layered`) within 2 % (the walk's noise) for grey bases of
     ρ 0.2 and 0.5, seen at 0° and 60° lit at 60° and 0°; Kelemen's coupling with ρ itself (ρ × a white base's) is
-    18–100 % too bright. The walk's interface, scattering once, loses light the coating gives to the base, so that a white base
-    returns the sky (the white furnace above): the two differ by that, the same for every ρ, which the ratio leaves."""
+    18–100 % too bright. The walk's interface, scattering once, loses light the coating gives to the base, so that a
+    white base returns the sky (the white furnace above): the two differ by that, the same for every ρ, which the ratio
+    leaves."""
     rho = np.array([0.2, 0.5, 1.0])
     spec = {"roughness": alpha, "refractive_index": eta}
     base = np.array([material({"reflectance": r, "coating": spec}, np.array([500.0]), tmp_path, tmp_path / "s.yaml",

@@ -38,13 +38,13 @@ each microfacet (Walter et al. 2007), sampled by the visible normals
 of radiance leaving a medium of index η, pbrt's radiance-mode scaling, is
 applied once at the end). It scatters once per meeting (no light among
 its microfacets), so a rough interface loses a little light, as pbrt's
-and Mitsuba's do. Written in numpy apart from the coating's compiled
-kernels, so that it checks them rather than repeating them.
+and Mitsuba's do. Written in numpy, independently of the coating's
+compiled kernels, so that it checks them.
 
 References
 ----------
 Guo Y, Hašan M, Zhao S (2018) Position-free Monte Carlo simulation for
-arbitrary layered BSDFs. ACM Trans Graph 37(6):279.
+arbitrary layered BSDFs. ACM Trans Graph 37(6).
 Pharr M, Jakob W, Humphreys G (2023) Physically Based Rendering, 4th ed.
 MIT Press (§14.3: stochastic evaluation of layered BxDFs).
 Walter B, Marschner SR, Li H, Torrance KE (2007) Microfacet models for
