@@ -5,7 +5,7 @@ README, and :data:`PASSAGES` says which files make it: the worker's eye against 
 published values (``worker_eye``), every shipped eye (``eyes``, after ``snakemake comparison``),
 the compass and pond captions (``compass``, ``pond``, after ``snakemake pond``), the default
 workflow's jobs and time (``workflow``, from Snakemake's log of the run), and the benchmarks'
-tables (``daylight``, ``noise``, ``speed``, ``coating``, from the lines each benchmark keeps in
+tables (``daylight``, ``noise``, ``speed``, ``coating``, ``layered``, from the lines each benchmark keeps in
 ``results/benchmarks/<name>.jsonl``: benchmarks/record.py). A
 passage whose files are not in the results folder is left as it is, and said so. Run after
 ``make workflow`` (and ``snakemake comparison``, and the benchmarks)::
@@ -267,6 +267,29 @@ def coating(results, eyes_dir):
             f"{run['depth']}, its grass Lambertian and coated:*\n\n" + "\n".join(lines))
 
 
+def layered(results, eyes_dir):
+    """The coating's base coupling, and Mitsuba's, against the layered model's random walk, from benchmarks/layered.py's
+    last run: per roughness, each model's relative error, median and largest over angles and albedos."""
+    run = kept(results, "layered")[-1]
+
+    def cell(v):
+        return f"{100 * v['median']:+.1f} % ({100 * v['largest']:+.0f} %)"
+
+    lines = ["| α | Kelemen, ρ (before) | roughplastic, nonlinear | roughplastic, linear (its default) | the coating, ρ' "
+             "(now) | dependence on ρ: Kelemen | dependence on ρ: the coating | the walk's white base at 0°, η "
+             + " / ".join(f"{eta:g}" for eta in run["etas"]) + " |", "|---|---|---|---|---|---|---|---|"]
+    for alpha, v in run["by_alpha"].items():
+        white = " / ".join(f"{run['white'][f'{alpha} {eta}']:.2f}" for eta in run["etas"])
+        lines.append(f"| {alpha} | {cell(v['kelemen']['error'])} | {cell(v['roughplastic']['error'])} | "
+                     f"{cell(v['roughplastic_linear']['error'])} | {cell(v['coating']['error'])} | "
+                     f"{cell(v['kelemen']['albedo'])} | {cell(v['coating']['albedo'])} | {white} |")
+    return (f"*`benchmarks/layered.py` at {run['commit']}: the base's light against the random walk's ({run['paths']} "
+            f"paths a setting, its own error at most {100 * run['walk_error']:.1f} %), median (largest) over "
+            f"incidence and view {run['angles_deg'][0]:g}–{run['angles_deg'][-1]:g}°, base albedos "
+            + ", ".join(f"{r:g}" for r in run["albedos"]) + " and η " + " and ".join(f"{e:g}" for e in run["etas"])
+            + ":*\n\n" + "\n".join(lines))
+
+
 def pond(results, eyes_dir):
     """The pond figure's caption, from the worker's polarisation at the pond."""
     table = read_table(results / "worker" / "pond" / "polarisation" / "polarisation.csv", numeric=["id"],
@@ -303,6 +326,7 @@ PASSAGES = {
     "noise": (noise, ["benchmarks/noise.jsonl"]),
     "speed": (speed, ["benchmarks/trace.jsonl"]),
     "coating": (coating, ["benchmarks/coating.jsonl"]),
+    "layered": (layered, ["benchmarks/layered.jsonl"]),
     "pond": (pond, ["worker/pond/polarisation/polarisation.csv"]),
 }
 BLOCK = re.compile(r"(<!-- from the run: (\w+) -->\n)(.*?)(\n<!-- end \2 -->)", re.S)

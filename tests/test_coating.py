@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from beeoptics.io.errors import InputError
-from beeoptics.light import coating, mueller
+from beeoptics.light import coating, layered, mueller
+from beeoptics.light.materials import material
 from beeoptics.light.scattering import glossy_share, lobes
 from beeoptics.vision.polarisation import degree_and_angle
 from test_polarisation import ground, scene_file, traced
@@ -113,4 +114,38 @@ def test_a_reflectance_measured_whole_is_what_the_coated_surface_reflects_at_nor
     reflected = 1.0 - coating.through(1.0, coating.albedo_table(0.35, 1.32))
     assert 0.015 < reflected < 0.03  # about Fresnel's ((η − 1)/(η + 1))² = 0.019
     np.testing.assert_allclose(radiance[True], rho, rtol=0.005)
-    np.testing.assert_allclose(radiance[False], reflected + rho * (1.0 - reflected), rtol=0.005)
+    # Taken as the base's own, it is returned through the coating's internal reflections, ρ' < ρ.
+    through = coating.base_albedo(rho, 0.35, 1.32)
+    assert through < rho
+    np.testing.assert_allclose(radiance[False], reflected + through * (1.0 - reflected), rtol=0.005)
+
+
+def test_the_random_walk_is_the_smooth_coatings_closed_form():
+    """A smooth interface (α 10⁻⁴) over a grey or white base: the walk gives ρ T_i T_o / (π η² (1 − ρ F_dr)) within its
+    noise, T = 1 − F Fresnel's transmittance and F_dr = 2∫ F(μ, 1/η) μ dμ its internal diffuse reflectance (0.596 for
+    η = 1.5), Saunderson's (1942) sum of the internal reflections."""
+    eta, mu = 1.5, np.array([1.0, 0.5, 0.2])
+    cos = (np.arange(100000) + 0.5) / 100000
+    internal = 2.0 * np.mean(layered.fresnel_mean(cos, 1.0 / eta) * cos)
+    assert abs(internal - 0.596) < 0.001
+    for rho in (0.5, 1.0):
+        walk = layered.base_reflection(mu[:, None], mu, rho, 1.0e-4, eta, paths=10000, seed=2)
+        t = 1.0 - layered.fresnel_mean(mu, eta)
+        np.testing.assert_allclose(walk, rho * t[:, None] * t / (np.pi * eta**2 * (1.0 - rho * internal)), rtol=0.02)
+
+
+@pytest.mark.parametrize("alpha, eta", [(0.1, 1.5), (0.35, 1.32)])
+def test_the_base_depends_on_its_albedo_as_the_layered_models_random_walk(tmp_path, alpha, eta):
+    """The coated base's light relative to a white base's, f(ρ)/f(1), is the layered model's exact answer (the random
+    walk between interface and base, :mod:`beeoptics.light.layered`) within 2 % (the walk's noise) for grey bases of
+    ρ 0.2 and 0.5, seen at 0° and 60° lit at 60° and 0°; Kelemen's coupling with ρ itself (ρ × a white base's) is
+    18–100 % too bright. The walk's interface, scattering once, loses light the coating gives to the base, so that a
+    white base returns the sky (the white furnace above): the two differ by that, the same for every ρ, which the ratio
+    leaves."""
+    rho = np.array([0.2, 0.5, 1.0])
+    spec = {"roughness": alpha, "refractive_index": eta}
+    base = np.array([material({"reflectance": r, "coating": spec}, np.array([500.0]), tmp_path, tmp_path / "s.yaml",
+                              "m")["reflectance"][0] for r in rho])
+    walk = layered.base_reflection(np.array([[1.0], [0.5]]), np.array([[0.5], [1.0]]), rho, alpha, eta, paths=12000,
+                                   seed=1)
+    np.testing.assert_allclose(np.tile(base[:2] / base[2], (2, 1)), walk[:, :2] / walk[:, 2:], rtol=0.02)

@@ -10,21 +10,45 @@ microfacet:
 
 its strength Fresnel's mean reflectance (R_s + R_p)/2 and its
 polarisation Fresnel's Mueller matrix (:mod:`beeoptics.light.mueller`)
-at the same microfacet, so both follow from one set of equations. The
-light the coating does not reflect reaches the Lambertian base and leaves
-through the coating again, as Kelemen & Szirmay-Kalos (2001) couple a
-microfacet layer to a matte one:
+at the same microfacet, so both follow from one set of equations.
 
-    f_d(i, o) = ρ/π · (1 − E(μ_i)) (1 − E(μ_o)) / (1 − Ē),
+The light the coating does not reflect reaches the Lambertian base, which
+returns ρ of it; the coating lets some of that out and reflects the rest
+back to the base (from inside, wholly beyond the critical angle), where it
+is absorbed or returned again, as Saunderson (1942) sums a pigmented
+plastic's internal reflections. The base's share is Kelemen &
+Szirmay-Kalos's (2001) coupling of a microfacet layer to a matte one, with
+the base's albedo as it is returned through those reflections:
+
+    f_d(i, o) = ρ'/π · (1 − E(μ_i)) (1 − E(μ_o)) / (1 − Ē),
+    ρ' = ρ (1 − F_dr) / (1 − ρ F_dr),
 
 E(μ) the coating's directional albedo (∫ f_s cos θ_o dω_o at incidence
-cos θ = μ, tabulated per material) and Ē = 2∫ E(μ) μ dμ its hemispherical
-mean. The pair is reciprocal, and with ρ = 1 it reflects everything:
-E(μ) + (1 − E(μ)) = 1 for any α and η (the white furnace). Light passed
-through the coating is taken as unpolarised, as the Lambertian base
-leaves it. The specular lobe is sampled by the distribution of visible
-normals (Heitz 2018), whose density is G1(i) D(h) / (4 |n·i|) per
-reflected direction.
+cos θ = μ, tabulated per material), Ē = 2∫ E(μ) μ dμ its hemispherical
+mean, and F_dr the same mean of the coating's albedo seen from inside
+(η → 1/η): how much of the base's diffuse light it sends back. ρ'
+(:func:`base_albedo`) is a spectrum per material and the coupling
+(:func:`coupling`) spectrally flat, as the tracer carries them. The pair
+is reciprocal, and with ρ = 1 (ρ' = 1) it reflects everything:
+E(μ) + (1 − E(μ)) = 1 for any α and η (the white furnace).
+
+The exact answer of this layered model, a random walk between interface
+and base as pbrt-v4's coated diffuse computes it
+(:mod:`beeoptics.light.layered`), is Mitsuba 3's ``roughplastic`` with
+``nonlinear`` internal scattering, ρ/π T(μ_i) T(μ_o) / (η² (1 − ρ F_dr)),
+T the interface's transmittance: the walk, once at the base, forgets its
+direction. It depends on ρ as ρ' does; where it differs from this
+coupling is in the light a microfacet interface that scatters once loses
+(its reflections and refractions into the surface, which a real surface
+scatters on: a white base under α 0.3, η 1.5, returns 66 % of a uniform
+sky). This coupling gives that light to the base, so that a white base
+returns the sky (``benchmarks/layered.py`` compares the two, and
+Kelemen's with ρ in place of ρ', this module's until then: 44–151 % too
+bright, median over angles and albedos at α 0.05–0.6). Only the specular lobe is Mitsuba's ``roughplastic`` (and,
+polarised, ``pplastic``) lobe. Light passed through the coating is
+taken as unpolarised, as the Lambertian base leaves it. The specular lobe
+is sampled by the distribution of visible normals (Heitz 2018), whose
+density is G1(i) D(h) / (4 |n·i|) per reflected direction.
 
 References
 ----------
@@ -37,6 +61,8 @@ Heitz E (2018) Sampling the GGX distribution of visible normals. Journal
 of Computer Graphics Techniques 7(4):1–13.
 Kelemen C, Szirmay-Kalos L (2001) A microfacet based coupled specular-matte
 BRDF model with importance sampling. Eurographics 2001 Short Presentations.
+Saunderson JL (1942) Calculation of the color of pigmented plastics. J Opt
+Soc Am 32:727–736.
 Born M, Wolf E (1999) Principles of Optics, 7th ed. (§1.5: Fresnel).
 """
 
@@ -147,9 +173,30 @@ def through(cos_v, table):
 
 @kernel
 def coupling(cos_i, cos_o, table):
-    """The base's factor through the coating, (1 − E(μ_i)) (1 − E(μ_o)) / (1 − Ē): f_d = ρ/π times it."""
+    """The base's factor through the coating, (1 − E(μ_i)) (1 − E(μ_o)) / (1 − Ē): f_d = ρ'/π times it,
+    ρ' the base's :func:`base_albedo`."""
     mean = table[len(table) - 1]
     return through(cos_i, table) * through(cos_o, table) / max(1.0 - mean, 1e-12)
+
+
+def base_albedo(rho, alpha, eta):
+    """The base's albedo as the coupling takes it, ρ' = ρ (1 − F_dr)/(1 − ρ F_dr): what it returns through the
+    coating's internal reflections (see the module's notes).
+
+    Parameters
+    ----------
+    rho : ndarray
+        The base's albedo ρ, in [0, 1] (per wavelength).
+    alpha, eta : float
+        The coating's roughness α (GGX) and refractive index η.
+
+    Returns
+    -------
+    ndarray
+        ρ', in [0, ρ]; 1 where ρ is 1.
+    """
+    internal = albedo_table(alpha, 1.0 / eta)[-1]  # F_dr: the coating's hemispherical albedo from inside
+    return rho * (1.0 - internal) / (1.0 - rho * internal)
 
 
 @kernel

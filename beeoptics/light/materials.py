@@ -39,19 +39,23 @@ refractive_index: η}, emission: <spectrum>}`` or, in place of ``coating``,
 reflectance, plus one of two surface reflections:
 
 - ``coating``: a rough dielectric interface over the Lambertian base
-  (:mod:`beeoptics.light.coating`; Mitsuba 3's ``roughplastic``, pbrt-v4's
-  coated diffuse): GGX microfacets of roughness α (0 < α ≤ 1), whose
+  (:mod:`beeoptics.light.coating`; its specular lobe Mitsuba 3's
+  ``roughplastic``): GGX microfacets of roughness α (0 < α ≤ 1), whose
   reflection follows Fresnel's equations for η in strength and in
-  polarisation, the light it does not reflect passed to the base. What
+  polarisation, the light it does not reflect passed to the base and back
+  (checked against pbrt-v4's coated diffuse, the layered model's random
+  walk). What
   water, a waxy cuticle or a glossy petal is. A spectrum measured from
   the whole surface (a spectrometer's reflectance of a leaf holds its
-  cuticle's reflection) says so, ``in_reflectance: true``: the base is
-  then what the coating leaves of it at normal incidence,
-  ρ_base = (ρ − E(1)) / (1 − E(1)), E the coating's directional albedo
-  (Kelemen & Szirmay-Kalos's coupling, whose albedo at incidence μ is
-  E(μ) + ρ_base (1 − E(μ)), inverted), so that the coated surface
-  reflects the measured spectrum there and its reflection is not counted
-  twice.
+  cuticle's reflection) says so, ``in_reflectance: true``: the base's
+  albedo through the coating is then what the coating leaves of it at
+  normal incidence, ρ' = (ρ − E(1)) / (1 − E(1)), E the coating's
+  directional albedo (the coupling's albedo at incidence μ,
+  E(μ) + ρ' (1 − E(μ)), inverted), so that the coated surface reflects
+  the measured spectrum there and its reflection is not counted twice.
+  Otherwise ρ is the base's own, and ρ' what it returns through the
+  coating's internal reflections
+  (:func:`beeoptics.light.coating.base_albedo`).
 - ``gloss``: a normalised Phong lobe (Lafortune & Willems 1994) of
   spectrally flat albedo ``ks``, whatever the angle: an empirical sheen,
   kept for the scenes that use it. η sets only how it polarises (Fresnel's
@@ -84,7 +88,7 @@ import numpy as np
 
 from beeoptics.light import daylightrecords, fred
 from beeoptics.io.errors import InputError
-from beeoptics.light.coating import albedo_table, through
+from beeoptics.light.coating import albedo_table, base_albedo, through
 from beeoptics.light.sky import cie_daylight
 from beeoptics.spectra import read_pavo_csv
 
@@ -189,8 +193,10 @@ def material(spec, wavelengths, base_dir, source, name):
     if not isinstance(n, (int, float)) or not 1.0 <= n <= 4.0:
         raise InputError(source, f"{field}.{surface}.refractive_index", "a refractive index must be a number in [1, 4]")
     if coat.get("in_reflectance", False):
-        # What the coating reflects at normal incidence, taken out of the measured reflectance.
+        # What the coating reflects at normal incidence, taken out of the measured reflectance: the rest is ρ'.
         reflected = 1.0 - through(1.0, albedo_table(alpha, n))
         rho = np.maximum(rho - reflected, 0.0) / (1.0 - reflected)
+    elif "coating" in spec:
+        rho = base_albedo(rho, alpha, n)
     return {"reflectance": rho, "emission": emission, "specular": ks,
             "exponent": float(gloss.get("exponent", 1.0)), "roughness": float(alpha), "refractive_index": float(n)}

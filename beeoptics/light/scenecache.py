@@ -46,7 +46,7 @@ from beeoptics import __version__
 log = logging.getLogger("beeoptics")
 
 #: The entries' layout: a change to what is stored, or how, starts new keys.
-LAYOUT = 2
+LAYOUT = 3
 #: Packages whose installed data a scene's spectra may read.
 DATA_PACKAGES = ("dreye",)
 #: Entries kept: when one more is written, the least recently used beyond these are removed (scenes, lights).
