@@ -78,7 +78,9 @@ def worker_eye(results, eyes_dir):
         return f"{q['field']['anisotropy']['horizontal_over_vertical'][who]:.2f}"
 
     def rows(q):
-        return f"rows {abs(q['field']['anisotropy']['rows_from_horizontal_deg']):.1f}° from horizontal"
+        a = q["field"]["anisotropy"]
+        along = "horizontal" if a["lines"] == "rows" else "vertical"
+        return f"{a['lines']} {abs(a['lines_off_deg']):.1f}° from {along}"
 
     def delta_rho(eye):
         values = _delta_rho(results, eye)

@@ -143,7 +143,7 @@ def test_the_worker_sees_the_measured_field_with_the_measured_anisotropy(built):
     assert v["elevation_45_75"]["ours"] > 1.8 * v["equator"]["ours"]
     ratio = shape["horizontal_over_vertical"]
     assert ratio["ours"] == pytest.approx(ratio["model"], rel=0.1) and ratio["ours"] > 1.2
-    assert abs(shape["rows_from_horizontal_deg"]) <= 10.0
+    assert shape["lines"] == "rows" and abs(shape["lines_off_deg"]) <= 10.0
     # Lenses in rows on the cornea, ommatidia in Seidl's columns in the visual field.
     vertical = shape["vertical_neighbours"]
     assert vertical["field"]["equator"] >= 0.15 and vertical["lenses"]["equator"] < 0.05

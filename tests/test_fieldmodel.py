@@ -151,3 +151,27 @@ def test_the_dorsal_rim_area_is_the_strip_along_the_top():
     assert points[member, 1].min() >= top - 0.1 * np.ptp(outline[:, 1])
     _, elevation = eye_azimuth_elevation(axes, RIGHT)
     assert np.median(elevation[member]) > np.percentile(elevation, 95)
+
+
+@pytest.mark.parametrize("lines", ["rows", "columns"])
+def test_seidls_angles_are_read_off_a_lattice_in_rows_or_in_columns(lines):
+    """Seidl's lattice near (60°, 0°): columns Δφ_h/2 apart, Δφ_v a step within a column, every other
+    column shifted by half a step; its lenses in rows (Δφ_h along a row) or in columns (Δφ_v along one)."""
+    from scipy.spatial import Delaunay
+
+    from beeoptics.eye.lattice import triangle_edges
+    from beeoptics.eye.quality import anisotropy
+
+    h, v = fieldmodel.delta_phi_horizontal(60.0, 0.0), fieldmodel.delta_phi_vertical(0.0)
+    grid = hex_grid(1.0, (-2.0, -2.0), (2.0, 2.0), lines=lines)
+    # A unit step along the lines is Δφ_h in rows and Δφ_v in columns; across them, half the other.
+    scale = (h, v / np.sqrt(3.0)) if lines == "rows" else (h / np.sqrt(3.0), v)
+    azimuth, elevation = 60.0 + grid[:, 0] * scale[0], grid[:, 1] * scale[1]
+    axes = eye_direction(azimuth, elevation, RIGHT)
+    edges = triangle_edges(Delaunay(grid).simplices)
+    edges = edges[np.linalg.norm(grid[edges[:, 1]] - grid[edges[:, 0]], axis=1) < 1.01]
+    shape = anisotropy(np.column_stack([grid, np.zeros(len(grid))]), axes, edges, eye_rotation(60.0, 0.0), lines)
+    assert shape["lines"] == lines and abs(shape["lines_off_deg"]) < 1e-6
+    # Within the model's own change over the patch (Δφ_v rises by 0.1° from the equator to 5° up).
+    assert shape["delta_phi_h_deg"]["median_ratio"] == pytest.approx(1.0, abs=0.05)
+    assert shape["delta_phi_v_deg"]["median_ratio"] == pytest.approx(1.0, abs=0.05)

@@ -16,6 +16,28 @@ def test_hex_grid_has_six_neighbours_at_one_pitch():
     assert near[6] == pytest.approx(0.1 * np.sqrt(3), rel=1e-9)
 
 
+@pytest.mark.parametrize("lines, along", [("rows", 0.0), ("columns", 90.0)])
+def test_a_grid_lines_its_adjacent_points_up_in_rows_or_in_columns(lines, along):
+    pts = hex_grid(0.1, (0, 0), (1, 1), lines=lines)
+    centre = np.argmin(np.linalg.norm(pts - 0.5, axis=1))
+    step = pts - pts[centre]
+    near = np.argsort(np.linalg.norm(step, axis=1))[1:7]
+    np.testing.assert_allclose(np.linalg.norm(step[near], axis=1), 0.1, rtol=1e-9)
+    # Two of the six stand along the lines, the other four 60° off them.
+    off = np.abs((np.degrees(np.arctan2(step[near, 1], step[near, 0])) - along + 90.0) % 180.0 - 90.0)
+    np.testing.assert_allclose(np.sort(off), [0, 0, 60, 60, 60, 60], atol=1e-6)
+
+
+def test_the_count_rule_lays_the_grid_in_columns_when_asked():
+    v, f = cap_mesh(0.5, 75.0)
+    points, _, pitch = project_grid(MeshQuery(v, f), 1000, "columns")
+    assert len(points) == 1000
+    step = points[:, None, :2] - points[None, :, :2]
+    # Some facet has a neighbour straight above it, one pitch away (up to the cap's slope).
+    upright = (np.abs(step[..., 0]) < 1e-9) & (np.abs(step[..., 1]) > 0) & (np.abs(step[..., 1]) < 1.01 * pitch)
+    assert upright.any()
+
+
 @pytest.mark.parametrize("count", [300, 1000, 4752])
 def test_count_rule_gives_exactly_the_count_on_the_mesh(count):
     v, f = cap_mesh(0.5, 75.0)

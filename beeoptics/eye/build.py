@@ -78,7 +78,7 @@ def build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress=
 
 def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress):
     query = MeshQuery(vertices, faces)
-    points, point_faces, pitch = project_grid(query, eye.facet_count)
+    points, point_faces, pitch = project_grid(query, eye.facet_count, eye.lattice_lines)
     if eye.axis_model == "field":
         # Before relaxation the projected grid stands for the facets, evenly spread and as many:
         # each anchor goes to the mesh vertex nearest the grid point that looks its way.
@@ -130,7 +130,7 @@ def _build_eye(eye, vertices, faces, normals, tolerance_um, acceptance, progress
     if eye.axis_model == "field" or "field_model" in eye.published:
         field = {"coverage": field_match(axes_head, drho, dphi)}
     if "field_model" in eye.published:
-        field["anisotropy"] = anisotropy(points, axes_head, edges, eye.rotation)
+        field["anisotropy"] = anisotropy(points, axes_head, edges, eye.rotation, eye.lattice_lines)
     normals_head = corneal @ eye.rotation
     seen = fields(axes_head, normals_head, drho, dphi, delta_phi(corneal, edges))
     quality = {

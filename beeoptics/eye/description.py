@@ -38,7 +38,8 @@ class EyeDescription(NamedTuple):
     are the facet-diameter anchors (``name``, ``azimuth_deg``,
     ``elevation_deg``, ``diameter_um``), spread with Shepard's exponent
     ``diameter_power``. ``axis_model`` names where the receptors' axes come
-    from, ``"normals"`` or ``"field"`` (:mod:`beeoptics.eye.axismodel`); ``dorsal_rim``, if
+    from, ``"normals"`` or ``"field"`` (:mod:`beeoptics.eye.axismodel`); ``lattice_lines`` how the
+    lenses line up, ``"rows"`` or ``"columns"`` (:func:`beeoptics.eye.lattice.hex_grid`); ``dorsal_rim``, if
     given, how many facets form the dorsal rim area. ``published`` holds the published optics the eye is
     checked against, ``document`` the whole checked file, defaults filled in.
     ``delta_rho`` is how its acceptance angles are set (its ``optics.delta_rho``,
@@ -59,6 +60,7 @@ class EyeDescription(NamedTuple):
     diameter_power: float
     rhabdom_acceptance_deg: float
     axis_model: str
+    lattice_lines: str
     dorsal_rim: dict
     delta_rho_anchors: list
     delta_rho: dict | None
@@ -113,7 +115,7 @@ def load_eye(path):
         facet_count=facets["count"], facet_count_sd=facets.get("sd"),
         anchors=anchors, diameter_power=doc.get("facet_diameter", {}).get("power", 2.0),
         rhabdom_acceptance_deg=doc.get("optics", {}).get("rhabdom_acceptance_deg", RHABDOM_ACCEPTANCE_DEG),
-        axis_model=doc["axes"]["model"], dorsal_rim=doc.get("dorsal_rim"),
+        axis_model=doc["axes"]["model"], lattice_lines=doc["lattice"]["lines"], dorsal_rim=doc.get("dorsal_rim"),
         delta_rho_anchors=doc.get("optics", {}).get("delta_rho_anchors", []),
         delta_rho=doc.get("optics", {}).get("delta_rho"),
         published=doc.get("published", {}), receptors=doc["receptors"], document=doc,

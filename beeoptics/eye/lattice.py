@@ -42,12 +42,16 @@ MAX_EDGE = 1.8
 MAX_ANGLE_DEG = 110.0
 
 
-def hex_grid(pitch, lo, hi, offset=(0.0, 0.0)):
+def hex_grid(pitch, lo, hi, offset=(0.0, 0.0), lines="rows"):
     """Points of a hexagonal grid of spacing ``pitch`` covering the box [lo, hi] in xy.
 
-    Rows run along x, ``pitch`` apart within a row and ``pitch·√3/2`` apart
-    between rows, every other row shifted by half a pitch.
+    With ``lines`` "rows", rows run along x, ``pitch`` apart within a row and
+    ``pitch·√3/2`` apart between rows, every other row shifted by half a
+    pitch; with "columns", the same grid turned a quarter turn, columns of
+    adjacent points running along y.
     """
+    if lines == "columns":
+        return hex_grid(pitch, lo[::-1], hi[::-1], offset[::-1])[:, ::-1]
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     row = pitch * np.sqrt(3.0) / 2.0
     ys = np.arange(lo[1] - row + offset[1] % row, hi[1] + row, row)
@@ -67,7 +71,7 @@ def _raycast_down(scene, xy, top):
     return np.column_stack([xy[keep], top - hit[keep]])
 
 
-def project_grid(query, count, max_offsets=64):
+def project_grid(query, count, lines="rows", max_offsets=64):
     """The count rule: a hexagonal grid with exactly ``count`` points on the eye.
 
     The pitch is found by bisection on the number of grid points whose
@@ -81,6 +85,8 @@ def project_grid(query, count, max_offsets=64):
         The eye mesh in its local frame (z outward, a height field over xy).
     count : int
         Facets wanted.
+    lines : {"rows", "columns"}
+        How the grid's adjacent points line up (:func:`hex_grid`).
 
     Returns
     -------
@@ -104,7 +110,7 @@ def project_grid(query, count, max_offsets=64):
         a, b = 0.7 * pitch0, 1.4 * pitch0
         for _ in range(60):
             pitch = 0.5 * (a + b)
-            pts = _raycast_down(scene, hex_grid(pitch, lo, hi, offset), top)
+            pts = _raycast_down(scene, hex_grid(pitch, lo, hi, offset, lines), top)
             if len(pts) == count:
                 points, faces = query.project(pts)
                 return points, faces, pitch

@@ -157,30 +157,31 @@ def field_match(axes_head, delta_rho_deg, delta_phi_deg, width_px=720):
     }
 
 
-def anisotropy(points, axes_head, edges, rotation):
+def anisotropy(points, axes_head, edges, rotation, lines="rows"):
     """Horizontal and vertical Δφ of a lattice against the field model, and the lattice's orientation.
 
-    In the eye's plane (anterior, dorsal), an edge within 30° of the
-    horizontal joins neighbours in a row: its angle is a sample of Δφ_h.
-    The other edges join a facet to the next row, half a column step up or
-    down: twice their difference in elevation samples Δφ_v, the step to the
-    next facet of the column (:mod:`beeoptics.eye.fieldmodel`). Each
-    facet's values are the means over its edges; the model's are taken at
-    the facet's own axis.
+    Seidl's (1982) Δφ_v is the angle between neighbours in a vertical
+    column of ommatidia, his Δφ_h between neighbours in a horizontal row;
+    columns are Δφ_h/2 apart and rows Δφ_v/2, every other one shifted by
+    half a step (:mod:`beeoptics.eye.fieldmodel`). In a hexagonal lattice
+    of lenses only one of the two is a line of adjacent facets: rows, with
+    ``lines`` "rows", or columns, with "columns" (the eye description's
+    ``lattice.lines``). In the eye's plane (anterior, dorsal), an edge within
+    30° of the lines' direction (horizontal or vertical) joins neighbours in
+    a line: its angle is a sample of that line's Δφ. The other edges join a
+    facet to the next line, half a step along it: twice their step across
+    the lines in the visual field samples the other Δφ (twice the
+    difference in elevation for rows; twice the horizontal part of the
+    angle, about the facet's own axis, for columns). Each facet's values are
+    the means over its edges; the model's are taken at the facet's own axis.
 
-    The lenses lie in rows on the cornea, and the ommatidia in columns in
-    the visual field: the cornea's vertical radius of curvature is 2.5
-    times its horizontal (del Portillo 1936), so a lens's diagonal
-    neighbours look 55° off the vertical (atan(2.5/√3), Seidl's ±55°) and
-    the lens two rows up, √3 spacings away on the cornea, is its nearest
-    neighbour straight above in the visual field, one Δφ_v away. Both are
-    counted: ``vertical_neighbours`` holds the share of the directions from
-    each facet to its six nearest neighbours that stand within 15° of the
-    vertical in the visual field, its neighbours taken among the axes
-    (``field``, as Stürzl et al.'s array is built: a third for Seidl's
-    lattice) and among the lenses on the cornea (``lenses``: none for a
-    lattice in rows), near the equator (|elevation| ≤ 20°, azimuth
-    20–140°) and over the eye.
+    ``vertical_neighbours`` holds, per facet, the share of the directions
+    to its six nearest neighbours that stand within 15° of the vertical in
+    the visual field (:func:`vertical_neighbour_share`), its neighbours taken
+    among the axes (``field``, as Stürzl et al.'s array is built: a third
+    for Seidl's lattice) and among the lenses on the cornea (``lenses``:
+    Seidl's columns are of adjacent facets; none for a lattice in rows),
+    near the equator (|elevation| ≤ 20°, azimuth 20–140°) and over the eye.
 
     Parameters
     ----------
@@ -192,6 +193,8 @@ def anisotropy(points, axes_head, edges, rotation):
         Lattice neighbours.
     rotation : ndarray (3, 3)
         The eye's rotation.
+    lines : {"rows", "columns"}
+        How the eye's lenses line up.
 
     Returns
     -------
@@ -199,25 +202,36 @@ def anisotropy(points, axes_head, edges, rotation):
         Medians of ours and the model's Δφ_h and Δφ_v, the median per-facet
         ratios and the correlations over the facets, the ratio of horizontal
         to vertical, Δφ_v at the equator (|elevation| < 5°) and at
-        |elevation| 45–75°, ``rows_from_horizontal_deg``, the lattice's
-        rows' angle from the head's horizontal, and ``vertical_neighbours``.
+        |elevation| 45–75°, ``lines`` and ``lines_off_deg``, the angle of the
+        lattice's lines from the head's horizontal (rows) or vertical
+        (columns) in the eye's plane, degrees, and ``vertical_neighbours``.
     """
     planar = points[:, :2] @ in_eye_plane(rotation).T
     step = planar[edges[:, 1]] - planar[edges[:, 0]]
     direction = np.degrees(np.arctan2(step[:, 1], step[:, 0]))
-    horizontal = np.abs((direction + 90.0) % 180.0 - 90.0) < 30.0
+    from_horizontal = np.abs((direction + 90.0) % 180.0 - 90.0)
     azimuth, elevation = eye_azimuth_elevation(axes_head, RIGHT)
     angle = np.degrees(np.arccos(np.clip((axes_head[edges[:, 0]] * axes_head[edges[:, 1]]).sum(1), -1.0, 1.0)))
     n = len(points)
-    rise = 2.0 * np.abs(elevation[edges[:, 1]] - elevation[edges[:, 0]])
-    ours_h = mean_over_edges(edges[horizontal], angle[horizontal], n)
-    ours_v = mean_over_edges(edges[~horizontal], rise[~horizontal], n)
+    if lines == "columns":
+        along = from_horizontal > 60.0
+        cos = vertical_cosines(axes_head, edges[:, 0], edges[:, 1])
+        across = 2.0 * angle * np.sqrt(1.0 - cos**2)
+        ours_v = mean_over_edges(edges[along], angle[along], n)
+        ours_h = mean_over_edges(edges[~along], across[~along], n)
+    else:
+        along = from_horizontal < 30.0
+        across = 2.0 * np.abs(elevation[edges[:, 1]] - elevation[edges[:, 0]])
+        ours_h = mean_over_edges(edges[along], angle[along], n)
+        ours_v = mean_over_edges(edges[~along], across[~along], n)
     model_h = fieldmodel.delta_phi_horizontal(azimuth, elevation)
     model_v = fieldmodel.delta_phi_vertical(elevation)
     ok = np.isfinite(ours_h) & np.isfinite(ours_v)
     equator, high = np.abs(elevation) < 5.0, (np.abs(elevation) >= 45.0) & (np.abs(elevation) <= 75.0)
-    # Hexagonal rows: six-fold symmetric, so the mean of exp(6iθ) gives their orientation.
+    # A hexagonal lattice is six-fold symmetric, so the mean of exp(6iθ) gives its orientation: rows
+    # along the horizontal at 0°, columns along the vertical at 30° (modulo 60°).
     rows = np.degrees(np.angle(np.exp(6j * np.radians(direction)).mean())) / 6.0
+    off = (rows - LINES_AT_DEG[lines] + 30.0) % 60.0 - 30.0
     middle = (np.abs(elevation) <= VERTICAL_BAND_DEG) & (azimuth >= VERTICAL_AZIMUTH_DEG[0]) & \
         (azimuth <= VERTICAL_AZIMUTH_DEG[1])
     shares = {kind: vertical_neighbour_share(among, axes_head) for kind, among in (("field", axes_head),
@@ -237,12 +251,23 @@ def anisotropy(points, axes_head, edges, rotation):
                             "elevation_45_75": {"ours": median(ours_v, ok & high), "model": median(model_v, high)}},
         "horizontal_over_vertical": {"ours": median(ours_h) / median(ours_v),
                                      "model": median(model_h) / median(model_v)},
-        "rows_from_horizontal_deg": float(rows),
+        "lines": lines,
+        "lines_off_deg": float(off),
         "vertical_neighbours": {kind: {"equator": float(s[middle].mean()), "eye": float(s.mean())}
-                                for kind, s in shares.items()} | {"within_deg": VERTICAL_WITHIN_DEG},
+                                for kind, s in shares.items()} | {
+            "within_deg": VERTICAL_WITHIN_DEG,
+            "definition": (f"per facet, the share of the directions to its six nearest neighbours, nearest among "
+                           f"the axes (field) or among the lenses' positions on the cornea (lenses), that stand "
+                           f"within {VERTICAL_WITHIN_DEG:g} deg of the vertical in the visual field (the "
+                           f"neighbours' axes about the facet's own); the mean over the facets near the equator "
+                           f"(|elevation| <= {VERTICAL_BAND_DEG:g} deg, azimuth {VERTICAL_AZIMUTH_DEG[0]:g}-"
+                           f"{VERTICAL_AZIMUTH_DEG[1]:g} deg) and over the eye")},
     }
 
 
+#: Where a hexagonal lattice's six-fold orientation lies when its lines are horizontal rows or vertical
+#: columns, degrees.
+LINES_AT_DEG = {"rows": 0.0, "columns": 30.0}
 #: Neighbour directions within this angle of the vertical count as vertical, degrees; and the region
 #: near the equator where the share is read: |elevation| up to the band, azimuth within the range.
 VERTICAL_WITHIN_DEG = 15.0
@@ -250,17 +275,25 @@ VERTICAL_BAND_DEG = 20.0
 VERTICAL_AZIMUTH_DEG = (20.0, 140.0)
 
 
+def vertical_cosines(axes_head, i, j):
+    """|cos| of the angle between the visual vertical at axes ``i`` and the direction to axes ``j``.
+
+    The direction is the step from one unit axis to the other in the plane
+    tangent to the first, head frame; ``i`` and ``j`` broadcast together.
+    """
+    a = axes_head[i]
+    step = axes_head[j] - a
+    step -= (step * a).sum(-1, keepdims=True) * a
+    up = np.array([0.0, 0.0, 1.0]) - a[..., 2:3] * a
+    return np.minimum(np.abs((step * up).sum(-1)) / (np.linalg.norm(step, axis=-1) * np.linalg.norm(up, axis=-1)), 1.0)
+
+
 def vertical_neighbour_share(among, axes_head):
     """For each facet, the share of the directions to its six nearest neighbours (nearest among ``among``: the
     axes, or the lenses' positions) that stand within :data:`VERTICAL_WITHIN_DEG` of the vertical in the visual
     field: of the neighbours' axes, about the facet's own, head frame."""
-    _, near = cKDTree(among).query(among, k=7)
-    a = axes_head[:, None, :]
-    step = axes_head[near[:, 1:]] - a
-    step -= (step * a).sum(-1, keepdims=True) * a
-    up = np.array([0.0, 0.0, 1.0]) - axes_head[:, 2:3] * axes_head
-    up /= np.linalg.norm(up, axis=1, keepdims=True)
-    cos = np.abs((step * up[:, None, :]).sum(-1)) / np.linalg.norm(step, axis=-1)
+    near = cKDTree(among).query(among, k=7)[1]
+    cos = vertical_cosines(axes_head, np.arange(len(among))[:, None], near[:, 1:])
     return (cos >= np.cos(np.radians(VERTICAL_WITHIN_DEG))).mean(1)
 
 
@@ -301,13 +334,15 @@ def zone_contrast(axes_head, dphi, facet_um, anchor, radius_deg):
 
 #: Bounds on the match to the measured field (issues 12 and 23 of the project): the share of the
 #: measured field covered, of ours outside it, the median ratio of Δφ to the model's, the
-#: correlation of Δφ with the model's over the facets, the rows' angle from the horizontal,
-#: degrees, and the share of neighbours straight above or below in the visual field near the
-#: equator (an array built by Stürzl et al.'s recipe has 0.23 of them).
+#: correlation of Δφ with the model's over the facets, the angle of the lattice's lines from the
+#: horizontal (rows) or the vertical (columns), degrees, and the share of neighbours straight
+#: above or below in the visual field near the equator, among the axes and, for a lattice in
+#: columns, among the lenses (an array built by Stürzl et al.'s recipe has 0.23 of them).
 FIELD_COVERED_MIN, FIELD_OUTSIDE_MAX = 0.9, 0.1
 DELTA_PHI_RATIO_TOLERANCE = 0.1
 DELTA_PHI_CORRELATION_MIN = 0.5
-ROWS_FROM_HORIZONTAL_MAX_DEG = 10.0
+LINES_OFF_MAX_DEG = 10.0
+LINES_ALONG = {"rows": "horizontal", "columns": "vertical"}
 VERTICAL_NEIGHBOURS_MIN = 0.15
 
 
@@ -326,9 +361,13 @@ def published_checks(eye, count, lattice, optics, zone, field=None, sizes=None, 
         ratio = shape["horizontal_over_vertical"]
         out["horizontal_over_vertical_within_10_percent"] = abs(ratio["ours"] / ratio["model"] - 1.0) <= \
             DELTA_PHI_RATIO_TOLERANCE
-        out["rows_horizontal_within_10_deg"] = abs(shape["rows_from_horizontal_deg"]) <= ROWS_FROM_HORIZONTAL_MAX_DEG
+        out[f"{shape['lines']}_{LINES_ALONG[shape['lines']]}_within_10_deg"] = \
+            abs(shape["lines_off_deg"]) <= LINES_OFF_MAX_DEG
         out["vertical_neighbours_in_the_field_near_the_equator_at_least_0.15"] = \
             shape["vertical_neighbours"]["field"]["equator"] >= VERTICAL_NEIGHBOURS_MIN
+        if shape["lines"] == "columns":
+            out["vertical_neighbours_among_lenses_near_the_equator_at_least_0.15"] = \
+                shape["vertical_neighbours"]["lenses"]["equator"] >= VERTICAL_NEIGHBOURS_MIN
     for key in ("eye_length_mm", "eye_width_mm", "corneal_area_mm2", "facet_diameter_max_um"):
         spec = eye.published.get(key)
         if spec and sizes is not None:
