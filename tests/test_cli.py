@@ -379,6 +379,25 @@ def test_a_killed_render_leaves_nothing_once_the_next_command_runs(built, render
         assert (out / path.name).read_bytes() == path.read_bytes(), path.name
 
 
+def test_a_render_sent_sigterm_cleans_up_as_after_ctrl_c(built, tmp_path):
+    # SIGTERM is what a cluster's scheduler sends at a job's time limit (Slurm, then SIGKILL after its KillWait).
+    out = tmp_path / "out"
+    args = [str(a) for a in [TOOL, "render", built / "receptors.csv", FLOWER, "--eye", EYE, "-o", out,
+                             "--samples", "4096", "--depth", "2", "--step-nm", "20", "--width-px", "32", "--quiet"]]
+    run = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(out.glob(".partial-*")) and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.5)
+    assert run.poll() is None, "the render ended before it could be stopped"
+    run.send_signal(signal.SIGTERM)
+    _, err = run.communicate(timeout=60)
+    # The folder the render made for its outputs goes too, as nothing was written into it.
+    assert not out.exists() or [p.name for p in out.iterdir()] == []
+    assert run.returncode == 128 + signal.SIGTERM
+    assert err.strip() == "beeoptics: terminated"
+
+
 def test_help_and_version_load_none_of_the_heavy_libraries():
     """--help must answer at once: the stages' libraries are imported by the commands that use them."""
     code = ("import sys; from beeoptics import cli; cli.parser().format_help(); "
