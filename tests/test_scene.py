@@ -322,7 +322,7 @@ def test_a_deleted_material_library_is_named_in_one_line(tmp_path, wavelengths, 
     assert str(e.value) == f"{folder / 'daisy.obj'}: line 2: its material library daisy.mtl does not exist"
 
 
-@pytest.mark.parametrize("change", ["buffer", "image"])
+@pytest.mark.parametrize("change", ["buffer", "image", "buffer deleted"])
 def test_a_cached_gltf_is_read_again_when_its_buffer_or_image_changes(tmp_path, wavelengths, monkeypatch, change):
     monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
     v = np.array([[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]], float)
@@ -353,11 +353,34 @@ def test_a_cached_gltf_is_read_again_when_its_buffer_or_image_changes(tmp_path, 
         blob[:48] = (2 * v.astype(np.float32)).tobytes()  # the vertices, twice as far apart
         buffer.write_bytes(bytes(blob))
         assert loaded(spec, wavelengths) == loaded(spec, wavelengths, cache=False) != before
+    elif change == "buffer deleted":
+        (tmp_path / "board.bin").unlink()
+        assert loaded(spec, wavelengths) == f"{gltf}: buffers: its buffer board.bin does not exist"
     else:
         # The image changes no colour a palette could map (a face's is its material's baseColorFactor),
         # but pymeshlab reads it: the scene is read again all the same.
         skin(0.8)
         assert not isinstance(load_scene(spec, wavelengths).objects[0].vertices, np.memmap)
+
+
+def test_a_cached_light_is_made_again_when_a_table_it_read_changes(tmp_path, wavelengths, monkeypatch):
+    # The package's own table of albedos, which no scene names, read for a sky's radiance.
+    from beeoptics.light import materials
+
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
+    table = tmp_path / "albedos.csv"
+    shutil.copyfile(materials.GROUND_ALBEDO_FILE, table)
+    monkeypatch.setattr(materials, "GROUND_ALBEDO_FILE", table)
+    spec = write_scene(tmp_path / "scene" / "scene.yaml", {
+        "name": "loam", "light": {"sky": "uniform", "radiance": {"ground": "loam"}, "sun": False},
+        "eye": {"position_m": [0, 0, 1.0]}, "materials": {"grey": {"reflectance": 0.5}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0}}, "material": "grey"}]})
+    before = load_scene(spec, wavelengths, geometry=False).sky.basis
+    rows = table.read_text().splitlines()
+    table.write_text("\n".join([rows[0], *(r.replace(",0.", ",0.0", 1) for r in rows[1:])]) + "\n")  # loam / 10
+    fresh = load_scene(spec, wavelengths, geometry=False, cache=False).sky.basis
+    assert not np.array_equal(fresh, before)
+    np.testing.assert_array_equal(load_scene(spec, wavelengths, geometry=False).sky.basis, fresh)
 
 
 def test_a_cache_that_cannot_be_written_is_not_used(tmp_path, wavelengths, monkeypatch):
