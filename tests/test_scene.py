@@ -383,6 +383,24 @@ def test_a_cached_light_is_made_again_when_a_table_it_read_changes(tmp_path, wav
     np.testing.assert_array_equal(load_scene(spec, wavelengths, geometry=False).sky.basis, fresh)
 
 
+def test_the_cache_keys_on_the_code_and_data_that_make_a_scene(tmp_path):
+    from beeoptics.light import scenecache
+
+    package = Path(scenecache.__file__).parents[1]
+    copy = tmp_path / "beeoptics"
+    for name in scenecache.CODE:
+        (shutil.copytree if (package / name).is_dir() else shutil.copyfile)(package / name, copy / name)
+    # The same files give the same key wherever the package lies; compiled caches do not count.
+    (copy / "light" / "__pycache__").mkdir(exist_ok=True)
+    (copy / "light" / "__pycache__" / "scene.nbi").write_bytes(b"numba's index")
+    assert scenecache.code_digest(copy) == scenecache.code_digest()
+    for changed in ("light/data/ground_albedo_feister_grewe1995.csv", "io/schemas/scene.schema.yaml",
+                    "light/materials.py", "spectra.py"):
+        before = scenecache.code_digest.__wrapped__(copy)
+        (copy / changed).write_text((copy / changed).read_text() + "\n")
+        assert scenecache.code_digest.__wrapped__(copy) != before, changed
+
+
 def test_a_cache_that_cannot_be_written_is_not_used(tmp_path, wavelengths, monkeypatch):
     blocked = tmp_path / "file"
     blocked.write_text("not a folder")

@@ -6,8 +6,10 @@ and looks up FReD's spectra, seconds each time a job starts. A loaded
 scene's objects (vertices, faces, each face's or texel's material, texture
 coordinates) and its materials on the spectral grid are therefore written,
 once, as ``.npy`` files beside a ``manifest.json`` in a folder named by a
-key: the SHA-256 of the package's version, the cache's layout, the scene's
-checked ``materials`` and ``objects`` sections, the spectral grid, the
+key: the SHA-256 of the package's version, the code and data that read and
+make a scene (:data:`CODE`: every reader, schema and table, and this
+module, so that a change to any starts new keys whatever the version
+says), the scene's checked ``materials`` and ``objects`` sections, the spectral grid, the
 contents of every file they name (meshes, textures, spectra) and the
 versions of the packages whose data they read (dreye's FReD). The files
 that made the scene are more than those it names: an OBJ's material
@@ -39,6 +41,7 @@ type is not the manifest's, is refused with a warning naming it, and the
 scene is loaded from its files and the entry written again.
 """
 
+import functools
 import hashlib
 import json
 import logging
@@ -54,8 +57,9 @@ from beeoptics import __version__
 
 log = logging.getLogger("beeoptics")
 
-#: The entries' layout: a change to what is stored, or how, starts new keys. 3: the files read beyond the key.
-LAYOUT = 3
+#: The package's code and data that read and make a scene, the cache's own layout among them (its files, or
+#: folders of files): their contents are part of every key.
+CODE = ("io", "light", "spectra.py")
 #: Packages whose installed data a scene's spectra may read.
 DATA_PACKAGES = ("dreye",)
 #: Entries kept: when one more is written, the least recently used beyond these are removed (scenes, lights).
@@ -97,7 +101,7 @@ def scene_key(data, base, wavelengths, sections=("objects", "materials")):
     """The key of a checked scene's ``sections`` (its geometry and materials, or its light) on a spectral grid
     (see the module notes)."""
     h = hashlib.sha256()
-    h.update(f"beeoptics {__version__} layout {LAYOUT} {' '.join(sections)}\n".encode())
+    h.update(f"beeoptics {__version__} code {code_digest()} {' '.join(sections)}\n".encode())
     for name in DATA_PACKAGES:
         try:
             h.update(f"{name} {version(name)}\n".encode())
@@ -108,6 +112,15 @@ def scene_key(data, base, wavelengths, sections=("objects", "materials")):
     for path in _named_files(data, base, sections):
         h.update(f"{path.name} {_digest(path)}\n".encode())
     return h.hexdigest()
+
+
+@functools.cache
+def code_digest(package=Path(__file__).parents[1]):
+    """The SHA-256 of the files of :data:`CODE` in ``package`` (their names in it and contents; compiled caches
+    left out), once a process."""
+    files = sorted(p for name in CODE for p in [package / name, *(package / name).rglob("*")]
+                   if p.is_file() and "__pycache__" not in p.parts)
+    return hashlib.sha256("".join(f"{p.relative_to(package)} {_digest(p)}\n" for p in files).encode()).hexdigest()
 
 
 def _digest(path):
