@@ -22,7 +22,7 @@ from tqdm import tqdm
 
 from beeoptics import __version__
 from beeoptics.headframe import SIDES, eye_azimuth_elevation
-from beeoptics.io.atomic import Terminated, sigterm_as_interrupt
+from beeoptics.io.atomic import Terminated, sigterm_as_interrupt, stop_behind
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, rows_of, write_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
@@ -671,12 +671,13 @@ def main(argv=None):
     except OSError as e:  # an unwritable output folder, a full disk
         print(f"beeoptics: error: {e}", file=sys.stderr)
         return 1
-    except Terminated:  # SIGTERM: a scheduler's time limit, kill
-        print("beeoptics: terminated", file=sys.stderr)
-        return Terminated.status
-    except KeyboardInterrupt:
-        print("beeoptics: interrupted", file=sys.stderr)
-        return 130
+    except (KeyboardInterrupt, ImportError) as e:  # Ctrl-C; SIGTERM (a scheduler's time limit, kill)
+        stop = stop_behind(e)
+        if stop is None:
+            raise
+        terminated = isinstance(stop, Terminated)
+        print(f"beeoptics: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+        return Terminated.status if terminated else 130
     return 0
 
 

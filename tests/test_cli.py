@@ -12,6 +12,7 @@ import pytest
 import yaml
 
 from beeoptics import cli
+from beeoptics.io.atomic import Terminated
 from beeoptics.io.errors import InputError
 from beeoptics.io.interchange import read_receptor_ply
 from beeoptics.io.receptortable import COLUMNS, read_receptors
@@ -394,8 +395,23 @@ def test_a_render_sent_sigterm_cleans_up_as_after_ctrl_c(built, tmp_path):
     _, err = run.communicate(timeout=60)
     # The folder the render made for its outputs goes too, as nothing was written into it.
     assert not out.exists() or [p.name for p in out.iterdir()] == []
-    assert run.returncode == 128 + signal.SIGTERM
-    assert err.strip() == "beeoptics: terminated"
+    assert (run.returncode, err) == (128 + signal.SIGTERM, "beeoptics: terminated\n")
+
+
+def test_a_stop_during_a_compiled_modules_import_is_reported_as_the_stop(monkeypatch, capsys):
+    # SIGTERM (or Ctrl-C) while Open3D's module initialises reaches the caller as pybind11's
+    # ImportError("initialization failed"), caused by the stop: seen with a render stopped 2 s in.
+    def stopped(args):
+        try:
+            raise Terminated
+        except Terminated as e:
+            raise ImportError("initialization failed") from e
+
+    monkeypatch.setattr(cli, "info", stopped)
+    assert call(capsys, "info", EYE) == (128 + signal.SIGTERM, "", "beeoptics: terminated\n")
+    monkeypatch.setattr(cli, "info", lambda args: __import__("a_module_that_is_not_there"))
+    with pytest.raises(ImportError):
+        cli.main(["info", str(EYE)])
 
 
 def test_help_and_version_load_none_of_the_heavy_libraries():

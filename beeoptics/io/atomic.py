@@ -51,6 +51,19 @@ def sigterm_as_interrupt():
         signal.signal(signal.SIGTERM, previous)
 
 
+def stop_behind(error):
+    """The Ctrl-C or SIGTERM (a KeyboardInterrupt) ``error`` is, or stands for, else None.
+
+    A stop that comes while a compiled module is imported (Open3D's, through
+    pybind11) reaches the caller as an ImportError ("initialization failed")
+    caused by it.
+    """
+    if isinstance(error, KeyboardInterrupt):
+        return error
+    cause = error.__cause__ or error.__context__
+    return cause if isinstance(error, ImportError) and isinstance(cause, KeyboardInterrupt) else None
+
+
 @contextmanager
 def atomic_path(path):
     """Yield a temporary path to write; it replaces ``path`` only if the block succeeds.

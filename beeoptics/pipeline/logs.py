@@ -5,7 +5,7 @@ import logging
 import sys
 from contextlib import contextmanager
 
-from beeoptics.io.atomic import Terminated, sigterm_as_interrupt
+from beeoptics.io.atomic import Terminated, sigterm_as_interrupt, stop_behind
 
 log = logging.getLogger("beeoptics")
 #: The heavy libraries a job may load: a job that only draws figures or tables loads neither.
@@ -28,7 +28,9 @@ def logging_to(path):
         with sigterm_as_interrupt():
             yield
         log.info("loaded: %s", ", ".join(m for m in HEAVY if m in sys.modules) or "none of " + ", ".join(HEAVY))
-    except Terminated:
+    except (Terminated, ImportError) as e:
+        if not isinstance(stop_behind(e), Terminated):
+            raise
         log.error("terminated (SIGTERM): its partial outputs removed")
         print("beeoptics: terminated", file=sys.stderr)
         raise SystemExit(Terminated.status) from None
