@@ -22,6 +22,7 @@ from tqdm import tqdm
 
 from beeoptics import __version__
 from beeoptics.headframe import SIDES, eye_azimuth_elevation
+from beeoptics.io.atomic import Terminated, sigterm_as_interrupt, stop_behind
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, rows_of, write_receptors
 from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
@@ -655,8 +656,9 @@ def parser():
 def main(argv=None):
     """Run the tool on ``argv`` (default: the command line); return the exit status."""
     try:
-        args = parser().parse_args(argv)
-        args.run(args)
+        with sigterm_as_interrupt():
+            args = parser().parse_args(argv)
+            args.run(args)
     except SystemExit as e:  # --help, and argparse's own errors
         return e.code
     except InputError as e:
@@ -669,9 +671,13 @@ def main(argv=None):
     except OSError as e:  # an unwritable output folder, a full disk
         print(f"beeoptics: error: {e}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("beeoptics: interrupted", file=sys.stderr)
-        return 130
+    except (KeyboardInterrupt, ImportError) as e:  # Ctrl-C; SIGTERM (a scheduler's time limit, kill)
+        stop = stop_behind(e)
+        if stop is None:
+            raise
+        terminated = isinstance(stop, Terminated)
+        print(f"beeoptics: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+        return Terminated.status if terminated else 130
     return 0
 
 

@@ -12,6 +12,7 @@ import pytest
 import yaml
 
 from beeoptics import cli
+from beeoptics.io.atomic import Terminated
 from beeoptics.io.errors import InputError
 from beeoptics.io.interchange import read_receptor_ply
 from beeoptics.io.receptortable import COLUMNS, read_receptors
@@ -377,6 +378,40 @@ def test_a_killed_render_leaves_nothing_once_the_next_command_runs(built, render
     assert sorted(p.name for p in out.iterdir()) == sorted(p.name for p in rendered.iterdir())
     for path in rendered.iterdir():
         assert (out / path.name).read_bytes() == path.read_bytes(), path.name
+
+
+def test_a_render_sent_sigterm_cleans_up_as_after_ctrl_c(built, tmp_path):
+    # SIGTERM is what a cluster's scheduler sends at a job's time limit (Slurm, then SIGKILL after its KillWait).
+    out = tmp_path / "out"
+    args = [str(a) for a in [TOOL, "render", built / "receptors.csv", FLOWER, "--eye", EYE, "-o", out,
+                             "--samples", "4096", "--depth", "2", "--step-nm", "20", "--width-px", "32", "--quiet"]]
+    run = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(out.glob(".partial-*")) and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.5)
+    assert run.poll() is None, "the render ended before it could be stopped"
+    run.send_signal(signal.SIGTERM)
+    _, err = run.communicate(timeout=60)
+    # The folder the render made for its outputs goes too, as nothing was written into it.
+    assert not out.exists() or [p.name for p in out.iterdir()] == []
+    assert (run.returncode, err) == (128 + signal.SIGTERM, "beeoptics: terminated\n")
+
+
+def test_a_stop_during_a_compiled_modules_import_is_reported_as_the_stop(monkeypatch, capsys):
+    # SIGTERM (or Ctrl-C) while Open3D's module initialises reaches the caller as pybind11's
+    # ImportError("initialization failed"), caused by the stop: seen with a render stopped 2 s in.
+    def stopped(args):
+        try:
+            raise Terminated
+        except Terminated as e:
+            raise ImportError("initialization failed") from e
+
+    monkeypatch.setattr(cli, "info", stopped)
+    assert call(capsys, "info", EYE) == (128 + signal.SIGTERM, "", "beeoptics: terminated\n")
+    monkeypatch.setattr(cli, "info", lambda args: __import__("a_module_that_is_not_there"))
+    with pytest.raises(ImportError):
+        cli.main(["info", str(EYE)])
 
 
 def test_help_and_version_load_none_of_the_heavy_libraries():

@@ -75,3 +75,26 @@ def test_a_run_stopped_mid_trace_completes_on_rerun_with_identical_outputs(tmp_p
         assert "traced receptors" in (work / LOG).read_text(), "the rerun did not trace"
         for o in OUTPUTS:
             assert (work / o).read_bytes() == uninterrupted[o], (sig, o)
+
+
+def test_a_job_sent_sigterm_mid_write_leaves_no_partial_file(tmp_path):
+    # A cluster's scheduler sends SIGTERM at a job's time limit: a workflow job (each runs in logging_to)
+    # writing an output ends as Ctrl-C ends it, its temporary file removed, with one line and 128 + 15.
+    job = ("import sys, time\n"
+           "from beeoptics.io.atomic import atomic_path\n"
+           "from beeoptics.pipeline.logs import logging_to\n"
+           "with logging_to(sys.argv[1]), atomic_path(sys.argv[2]) as tmp:\n"
+           "    tmp.write_text('half an output')\n"
+           "    print('writing', flush=True)\n"
+           "    time.sleep(60)\n")
+    out = tmp_path / "out"
+    out.mkdir()
+    run = subprocess.Popen([sys.executable, "-c", job, str(tmp_path / "job.log"), str(out / "part.npz")],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert run.stdout.readline().strip() == "writing"
+    run.send_signal(signal.SIGTERM)
+    _, err = run.communicate(timeout=30)
+    assert [p.name for p in out.iterdir()] == []
+    assert run.returncode == 128 + signal.SIGTERM
+    assert err.strip() == "beeoptics: terminated"
+    assert "terminated (SIGTERM)" in (tmp_path / "job.log").read_text()

@@ -1,6 +1,7 @@
 """Scene meshes in every format the README names, and their patterns per face and per texel."""
 
 import base64
+import hashlib
 import json
 import shutil
 import struct
@@ -261,6 +262,143 @@ def test_a_loaded_scene_is_cached_and_mapped_back_while_its_files_are_unchanged(
     assert any("unreadable" in r.getMessage() and str(entry) in r.getMessage() for r in caplog.records)
     np.testing.assert_array_equal(fixed.objects[1].vertices, edited.objects[1].vertices)
     assert isinstance(load_scene(folder / "scene.yaml", wavelengths).objects[1].vertices, np.memmap)
+
+
+def loaded(path, wavelengths, cache=True):
+    """The SHA-256 of a scene's objects' arrays and its reflectances, or the one line of the error loading it
+    gave."""
+    try:
+        scene = load_scene(path, wavelengths, cache=cache)
+    except InputError as e:
+        return str(e)
+    h = hashlib.sha256(scene.reflectance.tobytes())
+    for a in (a for o in scene.objects for a in (o.vertices, o.faces, o.face_material) if a is not None):
+        h.update(np.asarray(a).tobytes())
+    return h.hexdigest()
+
+
+def swap_colours(folder):
+    mtl = folder / "daisy.mtl"
+    mtl.write_text(mtl.read_text().replace("Kd 0.6 0.4 0.0", "Kd swapped").replace("Kd 1.0 1.0 0.4", "Kd 0.6 0.4 0.0")
+                   .replace("Kd swapped", "Kd 1.0 1.0 0.4"))
+
+
+def use_a_csv_spectrum(folder):
+    """The flower's leaf from a table of spectra, in pavo's layout."""
+    data = yaml.safe_load((folder / "scene.yaml").read_text())
+    data["materials"]["leaf"] = {"reflectance": {"csv": {"file": "spectra.csv", "column": "leaf"}}}
+    write_scene(folder / "scene.yaml", data)
+    (folder / "spectra.csv").write_text("wl,leaf\n300,0.05\n800,0.45\n")
+
+
+@pytest.mark.parametrize("edit", [
+    swap_colours,
+    lambda folder: (folder / "daisy.mtl").write_text(""),
+    lambda folder: (folder / "daisy.mtl").unlink(),
+    lambda folder: (folder / "spectra.csv").write_text("wl,leaf\n300,0.30\n800,0.10\n"),
+], ids=["mtl colours swapped", "mtl emptied", "mtl deleted", "spectrum csv changed"])
+def test_a_cached_flower_is_read_again_when_a_file_that_made_it_changes(tmp_path, wavelengths, monkeypatch, edit):
+    # The palette maps the colours of the OBJ's material library (daisy.mtl), which scene.yaml does not name.
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
+    folder = tmp_path / "flower"
+    shutil.copytree(FLOWER, folder)
+    use_a_csv_spectrum(folder)
+    before = loaded(folder / "scene.yaml", wavelengths)
+    assert loaded(folder / "scene.yaml", wavelengths) == before  # from the cache
+    edit(folder)
+    fresh = loaded(folder / "scene.yaml", wavelengths, cache=False)
+    assert fresh != before
+    assert loaded(folder / "scene.yaml", wavelengths) == fresh
+
+
+def test_a_deleted_material_library_is_named_in_one_line(tmp_path, wavelengths, monkeypatch):
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
+    folder = tmp_path / "flower"
+    shutil.copytree(FLOWER, folder)
+    load_scene(folder / "scene.yaml", wavelengths)
+    (folder / "daisy.mtl").unlink()
+    with pytest.raises(InputError) as e:
+        load_scene(folder / "scene.yaml", wavelengths)
+    assert str(e.value) == f"{folder / 'daisy.obj'}: line 2: its material library daisy.mtl does not exist"
+
+
+@pytest.mark.parametrize("change", ["buffer", "image", "buffer deleted"])
+def test_a_cached_gltf_is_read_again_when_its_buffer_or_image_changes(tmp_path, wavelengths, monkeypatch, change):
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
+    v = np.array([[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]], float)
+    gltf = write_gltf(tmp_path / "board.gltf", v, [[0, 1, 2], [0, 2, 3]], uv=v[:, :2] + 0.5)
+    # Its buffer beside it, and a base colour image (which pymeshlab reads), as exporters write them.
+    doc = json.loads(gltf.read_text())
+    (tmp_path / "board.bin").write_bytes(base64.b64decode(doc["buffers"][0]["uri"].split(",", 1)[1]))
+    doc["buffers"][0]["uri"] = "board.bin"
+    doc["images"], doc["textures"] = [{"uri": "skin.png"}], [{"source": 0}]
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+    gltf.write_text(json.dumps(doc))
+
+    def skin(value):
+        image = oiio.ImageBuf(oiio.ImageSpec(2, 2, 3, oiio.UINT8))
+        oiio.ImageBufAlgo.fill(image, [value] * 3)
+        assert image.write(str(tmp_path / "skin.png"))
+
+    skin(0.2)
+    spec = write_scene(tmp_path / "scene.yaml", {
+        "name": "board", "light": {"sky": "uniform", "radiance": SKY, "sun": False},
+        "eye": {"position_m": [0, 0, 1.0]}, "materials": {"pale": {"reflectance": 0.7}},
+        "objects": [{"mesh": "board.gltf", "material": "pale"}]})
+    before = loaded(spec, wavelengths)
+    assert isinstance(load_scene(spec, wavelengths).objects[0].vertices, np.memmap)  # from the cache
+    if change == "buffer":
+        buffer = tmp_path / "board.bin"
+        blob = bytearray(buffer.read_bytes())
+        blob[:48] = (2 * v.astype(np.float32)).tobytes()  # the vertices, twice as far apart
+        buffer.write_bytes(bytes(blob))
+        assert loaded(spec, wavelengths) == loaded(spec, wavelengths, cache=False) != before
+    elif change == "buffer deleted":
+        (tmp_path / "board.bin").unlink()
+        assert loaded(spec, wavelengths) == f"{gltf}: buffers: its buffer board.bin does not exist"
+    else:
+        # The image changes no colour a palette could map (a face's is its material's baseColorFactor),
+        # but pymeshlab reads it: the scene is read again all the same.
+        skin(0.8)
+        assert not isinstance(load_scene(spec, wavelengths).objects[0].vertices, np.memmap)
+
+
+def test_a_cached_light_is_made_again_when_a_table_it_read_changes(tmp_path, wavelengths, monkeypatch):
+    # The package's own table of albedos, which no scene names, read for a sky's radiance.
+    from beeoptics.light import materials
+
+    monkeypatch.setenv("BEEOPTICS_CACHE", str(tmp_path / "cache"))
+    table = tmp_path / "albedos.csv"
+    shutil.copyfile(materials.GROUND_ALBEDO_FILE, table)
+    monkeypatch.setattr(materials, "GROUND_ALBEDO_FILE", table)
+    spec = write_scene(tmp_path / "scene" / "scene.yaml", {
+        "name": "loam", "light": {"sky": "uniform", "radiance": {"ground": "loam"}, "sun": False},
+        "eye": {"position_m": [0, 0, 1.0]}, "materials": {"grey": {"reflectance": 0.5}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0}}, "material": "grey"}]})
+    before = load_scene(spec, wavelengths, geometry=False).sky.basis
+    rows = table.read_text().splitlines()
+    table.write_text("\n".join([rows[0], *(r.replace(",0.", ",0.0", 1) for r in rows[1:])]) + "\n")  # loam / 10
+    fresh = load_scene(spec, wavelengths, geometry=False, cache=False).sky.basis
+    assert not np.array_equal(fresh, before)
+    np.testing.assert_array_equal(load_scene(spec, wavelengths, geometry=False).sky.basis, fresh)
+
+
+def test_the_cache_keys_on_the_code_and_data_that_make_a_scene(tmp_path):
+    from beeoptics.light import scenecache
+
+    package = Path(scenecache.__file__).parents[1]
+    copy = tmp_path / "beeoptics"
+    for name in scenecache.CODE:
+        (shutil.copytree if (package / name).is_dir() else shutil.copyfile)(package / name, copy / name)
+    # The same files give the same key wherever the package lies; compiled caches do not count.
+    (copy / "light" / "__pycache__").mkdir(exist_ok=True)
+    (copy / "light" / "__pycache__" / "scene.nbi").write_bytes(b"numba's index")
+    assert scenecache.code_digest(copy) == scenecache.code_digest()
+    for changed in ("light/data/ground_albedo_feister_grewe1995.csv", "io/schemas/scene.schema.yaml",
+                    "light/materials.py", "spectra.py"):
+        before = scenecache.code_digest.__wrapped__(copy)
+        (copy / changed).write_text((copy / changed).read_text() + "\n")
+        assert scenecache.code_digest.__wrapped__(copy) != before, changed
 
 
 def test_a_cache_that_cannot_be_written_is_not_used(tmp_path, wavelengths, monkeypatch):

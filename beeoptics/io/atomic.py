@@ -2,14 +2,66 @@
 
 Every output is written to a temporary file beside its destination and
 renamed onto it only when complete; a rename within one directory is atomic
-on POSIX file systems.
+on POSIX file systems. A run stopped by Ctrl-C (SIGINT, Python's
+KeyboardInterrupt) or by SIGTERM, what a cluster's scheduler sends at a
+job's time limit and ``kill`` sends by default, removes its temporary files
+and scratch folders on the way out (:func:`sigterm_as_interrupt`); only one
+killed outright (SIGKILL) leaves them, for the next run to remove.
 """
 
 import json
 import os
+import signal
 import tempfile
+import threading
 from contextlib import contextmanager
 from pathlib import Path
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where Ctrl-C raises KeyboardInterrupt, so that the same clean-up runs."""
+
+    #: The exit status of a process ended by SIGTERM, as a shell reports one killed by it (128 + 15).
+    status = 128 + signal.SIGTERM
+
+
+@contextmanager
+def sigterm_as_interrupt():
+    """Within the block, SIGTERM raises :class:`Terminated` (a KeyboardInterrupt) in the main thread.
+
+    Python's default for SIGTERM ends the process at once, before any
+    ``finally`` can remove a temporary file or a ``.partial-`` folder. Like
+    Ctrl-C it takes effect between two Python steps: a native call (a trace
+    batch) finishes first. Outside the main thread, where no signal handler
+    can be set, the block runs unchanged.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum, frame):
+        # A scheduler may send SIGTERM again (to each process of a job): the clean-up is not stopped in turn.
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Terminated
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def stop_behind(error):
+    """The Ctrl-C or SIGTERM (a KeyboardInterrupt) ``error`` is, or stands for, else None.
+
+    A stop that comes while a compiled module is imported (Open3D's, through
+    pybind11) reaches the caller as an ImportError ("initialization failed")
+    caused by it.
+    """
+    if isinstance(error, KeyboardInterrupt):
+        return error
+    cause = error.__cause__ or error.__context__
+    return cause if isinstance(error, ImportError) and isinstance(cause, KeyboardInterrupt) else None
 
 
 @contextmanager

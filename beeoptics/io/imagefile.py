@@ -10,6 +10,7 @@ import OpenImageIO as oiio
 
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
+from beeoptics.io.provenance import note
 
 #: The timestamp written into every image (EXIF form), fixed for reproducibility.
 DATETIME = "2000:01:01 00:00:00"
@@ -104,6 +105,7 @@ def read_image(path):
     InputError
         If the file is missing or not an image OpenImageIO reads.
     """
+    note(path)
     buf = oiio.ImageBuf(str(path))
     if buf.has_error:
         raise InputError(path, "", f"cannot read image: {buf.geterror()}")

@@ -40,6 +40,7 @@ import numpy as np
 import plyfile
 
 from beeoptics.io.errors import InputError
+from beeoptics.io.provenance import note
 
 #: File suffixes meshio reads, and its name for each format.
 MESHIO_FORMATS = {".off": "off", ".stl": "stl"}
@@ -259,7 +260,12 @@ def _obj(path):
         except ValueError as e:
             raise InputError(path, f"line {number}", f"cannot read mesh: {e}") from None
         if key == "mtllib":
-            args = [str(path.parent.joinpath(" ".join(args)).resolve())]
+            # MeshLab reads the rest of the line as one file name, which may hold spaces.
+            library = path.parent.joinpath(" ".join(args)).resolve()
+            note(library)
+            if not library.is_file():
+                raise InputError(path, f"line {number}", f"its material library {' '.join(args)} does not exist")
+            args = [str(library)]
         statements.append(" ".join([key, *args]))
     return (np.asarray(vertices, float).reshape(-1, 3), np.asarray(faces, np.int64).reshape(-1, 3),
             "\n".join(statements) + "\n")
@@ -335,6 +341,9 @@ def _gltf_buffer(path, buffer, binary):
     elif uri.startswith("data:"):
         data = base64.b64decode(uri.split(",", 1)[1])
     else:
+        note(path.parent / uri)
+        if not (path.parent / uri).is_file():
+            raise InputError(path, "buffers", f"its buffer {uri} does not exist")
         data = (path.parent / uri).read_bytes()
     if data is None or len(data) < buffer["byteLength"]:
         raise ValueError("a buffer is shorter than its byteLength")

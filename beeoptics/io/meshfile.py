@@ -18,6 +18,7 @@ import numpy as np
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 from beeoptics.io.meshcheck import canonical_obj, check_mesh_file, read_ply
+from beeoptics.io.provenance import note
 
 
 def read_mesh(path, patterns=False, source=None, field=""):
@@ -35,6 +36,7 @@ def read_mesh(path, patterns=False, source=None, field=""):
         or not edge-manifold, or as :func:`~beeoptics.io.meshcheck.check_mesh_file`.
     """
     path = Path(path)
+    note(path)
     if not path.is_file():
         raise InputError(source or path, field, f"no such mesh file {path}")
     if path.stat().st_size == 0:
@@ -64,6 +66,11 @@ def read_mesh(path, patterns=False, source=None, field=""):
         detail = " ".join(str(e).replace(str(path), path.name).split())
         raise InputError(path, "", f"cannot read mesh: {detail}") from None
     mesh = ms.current_mesh()
+    # The images pymeshlab read for the mesh (a glTF's); one it did not find is named "dummy.png" and not read.
+    # (It looks for an OBJ's map_Kd beside the canonical copy, so reads none: a face's colour is its Kd.)
+    for name in mesh.textures():
+        if (path.parent / name).is_file():
+            note(path.parent / name)
     if mesh.face_number() == 0:
         raise InputError(path, "faces", "the mesh has no faces")
     vertices = mesh.vertex_matrix().astype(np.float64)

@@ -14,6 +14,7 @@ import numpy as np
 
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
+from beeoptics.io.provenance import note
 
 
 def write_table(path, columns, digits=9):
@@ -55,6 +56,7 @@ def read_table(path, numeric=(), text=()):
         If the file is missing or empty, a listed column is absent, or a
         numeric column holds something else (naming its row and value).
     """
+    note(path)
     try:
         with open(path, newline="") as f:
             rows = list(csv.reader(f))

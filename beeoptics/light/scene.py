@@ -23,6 +23,7 @@ from scipy.spatial.transform import Rotation
 
 from beeoptics.headframe import head_rotation
 from beeoptics.io.errors import InputError
+from beeoptics.io import provenance
 from beeoptics.io.imagefile import read_image
 from beeoptics.io.meshfile import read_mesh
 from beeoptics.io.validation import load_yaml, validate
@@ -208,8 +209,9 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=Tru
         objects = [SceneObject(**o) for o in cached[0]] if geometry else []
         mats = [{k: cached[1][k][i] for k in scenecache.MATERIAL_ARRAYS} for i in range(len(names))]
     else:
-        mats = [material(data["materials"][n], wl, base, path, n) for n in names]
-        objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])] if geometry else []
+        with provenance.recording() as read:
+            mats = [material(data["materials"][n], wl, base, path, n) for n in names]
+            objects = [_object(o, base, names, path, i) for i, o in enumerate(data["objects"])] if geometry else []
 
     sky, sun = _light(data, wl, base, path, cache)
     # An emitting material lights the scene only if some object is made of it.
@@ -230,7 +232,8 @@ def load_scene(path, wavelengths, light=None, eye=None, geometry=True, cache=Tru
     every = np.vstack([o.vertices for o in objects] + [np.zeros((1, 3))])
     n_wl = len(wl)
     if key and cached is None and geometry:
-        scenecache.write(key, objects, {k: np.array([m[k] for m in mats]) for k in scenecache.MATERIAL_ARRAYS}, names)
+        scenecache.write(key, objects, {k: np.array([m[k] for m in mats]) for k in scenecache.MATERIAL_ARRAYS}, names,
+                         scenecache.companions(data, base, read))
     return Scene(
         name=data["name"], path=path, objects=objects, material_names=names,
         reflectance=np.array([m["reflectance"] for m in mats]).reshape(-1, n_wl),
@@ -252,10 +255,12 @@ def _light(data, wl, base, path, cache=True):
     key = scenecache.scene_key(data, base, wl, ("light",)) if cache else None
     fields = scenecache.read_light(key) if key else None
     if fields is None:
-        sky, sun = _made_light(data["light"], wl, base, path)
+        with provenance.recording() as read:
+            sky, sun = _made_light(data["light"], wl, base, path)
         if key:
             scenecache.write_light(key, {f"{name}_{k}": v for name, part in (("sky", sky), ("sun", sun))
-                                         if part is not None for k, v in part._asdict().items()})
+                                         if part is not None for k, v in part._asdict().items()},
+                                   scenecache.companions(data, base, read, ("light",)))
         return sky, sun
 
     def stored(name, kind):

@@ -6,20 +6,31 @@ and looks up FReD's spectra, seconds each time a job starts. A loaded
 scene's objects (vertices, faces, each face's or texel's material, texture
 coordinates) and its materials on the spectral grid are therefore written,
 once, as ``.npy`` files beside a ``manifest.json`` in a folder named by a
-key: the SHA-256 of the package's version, the cache's layout, the scene's
-checked ``materials`` and ``objects`` sections, the spectral grid, the
+key: the SHA-256 of the package's version, the code and data that read and
+make a scene (:data:`CODE`: every reader, schema and table, and this
+module, so that a change to any starts new keys whatever the version
+says), the scene's checked ``materials`` and ``objects`` sections, the spectral grid, the
 contents of every file they name (meshes, textures, spectra) and the
-versions of the packages whose data they read (dreye's FReD). A later load
-with the same key maps the arrays instead of reading the files again (a
-stage that needs only the materials takes them alone).
+versions of the packages whose data they read (dreye's FReD). The files
+that made the scene are more than those it names: an OBJ's material
+libraries (the colours its palette maps), a glTF's external buffers and the
+images read with it, the package's own tables (Feister & Grewe's albedos).
+Its readers name every file they read (:mod:`beeoptics.io.provenance`), and
+the manifest keeps the SHA-256 of each the key does not hold. A later load
+with the same key whose files are all as they were maps the arrays instead
+of reading the files again (a stage that needs only the materials takes
+them alone); one of them changed or gone, the scene is read from its files
+again (and a file gone is then reported as missing) and the entry written
+anew.
 
 The light (sky and sun) is kept apart, since sweeps, flights and the
 compass change it while the geometry stays: each light the scene's
 ``light`` section (with its overrides) makes on a grid is a ``.npz`` in
 ``lights/``, keyed likewise by that section, the grid and the files it
-names, so that a stage need not compute the daylight again (SPECTRL2
-through pvlib, measured albedos resampled with colour-science: a second or
-two of imports and arithmetic).
+names, with the other files it read checked as a scene's are, so that a
+stage need not compute the daylight again (SPECTRL2 through pvlib, measured
+albedos resampled with colour-science: a second or two of imports and
+arithmetic).
 
 The cache lives in ``$BEEOPTICS_CACHE``, else ``$XDG_CACHE_HOME/beeoptics``,
 else ``~/.cache/beeoptics``; a folder that cannot be written is simply not
@@ -30,6 +41,7 @@ type is not the manifest's, is refused with a warning naming it, and the
 scene is loaded from its files and the entry written again.
 """
 
+import functools
 import hashlib
 import json
 import logging
@@ -45,8 +57,9 @@ from beeoptics import __version__
 
 log = logging.getLogger("beeoptics")
 
-#: The entries' layout: a change to what is stored, or how, starts new keys.
-LAYOUT = 3
+#: The package's code and data that read and make a scene, the cache's own layout among them (its files, or
+#: folders of files): their contents are part of every key.
+CODE = ("io", "light", "spectra.py")
 #: Packages whose installed data a scene's spectra may read.
 DATA_PACKAGES = ("dreye",)
 #: Entries kept: when one more is written, the least recently used beyond these are removed (scenes, lights).
@@ -88,7 +101,7 @@ def scene_key(data, base, wavelengths, sections=("objects", "materials")):
     """The key of a checked scene's ``sections`` (its geometry and materials, or its light) on a spectral grid
     (see the module notes)."""
     h = hashlib.sha256()
-    h.update(f"beeoptics {__version__} layout {LAYOUT} {' '.join(sections)}\n".encode())
+    h.update(f"beeoptics {__version__} code {code_digest()} {' '.join(sections)}\n".encode())
     for name in DATA_PACKAGES:
         try:
             h.update(f"{name} {version(name)}\n".encode())
@@ -97,14 +110,41 @@ def scene_key(data, base, wavelengths, sections=("objects", "materials")):
     h.update(json.dumps({k: data[k] for k in sections}, sort_keys=True, default=str).encode())
     h.update(np.ascontiguousarray(wavelengths, float).tobytes())
     for path in _named_files(data, base, sections):
-        h.update(str(path.name).encode())
-        try:
-            with open(path, "rb") as f:
-                for block in iter(lambda: f.read(1 << 22), b""):
-                    h.update(block)
-        except OSError:
-            h.update(b"missing")
+        h.update(f"{path.name} {_digest(path)}\n".encode())
     return h.hexdigest()
+
+
+@functools.cache
+def code_digest(package=Path(__file__).parents[1]):
+    """The SHA-256 of the files of :data:`CODE` in ``package`` (their names in it and contents; compiled caches
+    left out), once a process."""
+    files = sorted(p for name in CODE for p in [package / name, *(package / name).rglob("*")]
+                   if p.is_file() and "__pycache__" not in p.parts)
+    return hashlib.sha256("".join(f"{p.relative_to(package)} {_digest(p)}\n" for p in files).encode()).hexdigest()
+
+
+def _digest(path):
+    """The SHA-256 of a file's contents (hex), or "missing" if it cannot be read."""
+    h = hashlib.sha256()
+    try:
+        with open(path, "rb") as f:
+            for block in iter(lambda: f.read(1 << 22), b""):
+                h.update(block)
+    except OSError:
+        return "missing"
+    return h.hexdigest()
+
+
+def companions(data, base, read, sections=("objects", "materials")):
+    """The files of ``read`` (every file loading the scene's ``sections`` read; :mod:`beeoptics.io.provenance`)
+    that the key does not hash, each with its SHA-256: what an entry checks before it is used."""
+    named = {p.absolute() for p in _named_files(data, base, sections)}
+    return {str(p): _digest(p) for p in read if p not in named}
+
+
+def _changed(files):
+    """The first of ``files`` (path: SHA-256) whose contents are no longer those, or None."""
+    return next((path for path, digest in files.items() if _digest(path) != digest), None)
 
 
 def read(key):
@@ -124,6 +164,10 @@ def read(key):
                 raise ValueError(f"{entry['file']} is {a.dtype}{list(a.shape)}, not {entry['dtype']}{entry['shape']}")
             return a
 
+        changed = _changed(spec["companions"])
+        if changed:
+            log.info("scene cache %s was made with another %s: loading the scene from its files", folder, changed)
+            return None
         objects = [{"name": o["name"], **{k: array(o["arrays"][k]) for k in OBJECT_ARRAYS}} for o in spec["objects"]]
         materials = {k: array(spec["materials"][k]) for k in MATERIAL_ARRAYS}
         os.utime(manifest)  # used: the last to be evicted
@@ -133,9 +177,10 @@ def read(key):
         return None
 
 
-def write(key, objects, materials, names):
-    """Write a loaded scene's objects (SceneObjects) and materials (dict of arrays) as entry ``key``; False
-    if the cache's folder cannot be written."""
+def write(key, objects, materials, names, files):
+    """Write a loaded scene's objects (SceneObjects) and materials (dict of arrays) as entry ``key``, with the
+    files it was read from beyond the key (path: SHA-256, :func:`companions`); False if the cache's folder
+    cannot be written."""
     root = cache_root()
     try:
         root.mkdir(parents=True, exist_ok=True)
@@ -150,7 +195,7 @@ def write(key, objects, materials, names):
             np.save(scratch / f"{name}.npy", value, allow_pickle=False)
             return {"file": f"{name}.npy", "shape": list(value.shape), "dtype": str(value.dtype)}
 
-        spec = {"key": key, "material_names": list(names),
+        spec = {"key": key, "companions": files, "material_names": list(names),
                 "materials": {k: put(k, materials[k]) for k in MATERIAL_ARRAYS},
                 "objects": [{"name": o.name, "arrays": {k: put(f"object{i}_{k}", getattr(o, k)) for k in OBJECT_ARRAYS}}
                             for i, o in enumerate(objects)]}
@@ -181,18 +226,23 @@ def read_light(key):
     try:
         with np.load(path, allow_pickle=False) as f:
             light = {k: f[k] for k in f.files}
+        changed = _changed(dict(zip(light.pop("companion_paths").tolist(), light.pop("companion_digests").tolist())))
+        if changed:
+            log.info("cached light %s was made with another %s: computing the light", path, changed)
+            return None
         os.utime(path)  # used: the last to be evicted
         return light
     except FileNotFoundError:
         return None
-    except (OSError, ValueError) as e:
+    except (OSError, ValueError, KeyError) as e:
         log.warning("cached light %s is unreadable (%s): computing the light", path, e)
         return None
 
 
-def write_light(key, fields):
-    """Write a light's fields (a dict of arrays, :func:`read_light`'s) as entry ``key``; False if the cache's
-    folder cannot be written."""
+def write_light(key, fields, files):
+    """Write a light's fields (a dict of arrays, :func:`read_light`'s) as entry ``key``, with the files it was
+    made from beyond the key (path: SHA-256, :func:`companions`); False if the cache's folder cannot be
+    written."""
     folder = cache_root() / "lights"
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -201,7 +251,8 @@ def write_light(key, fields):
         return False
     try:
         with os.fdopen(fd, "wb") as f:
-            np.savez(f, **{k: np.asarray(v) for k, v in fields.items()})
+            np.savez(f, **{k: np.asarray(v) for k, v in fields.items()},
+                     companion_paths=np.array(list(files), str), companion_digests=np.array(list(files.values()), str))
         os.replace(scratch, folder / f"{key}.npz")
     except OSError:
         Path(scratch).unlink(missing_ok=True)
