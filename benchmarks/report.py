@@ -53,6 +53,13 @@ def main(argv=None):
     missing = [v for v in viewers if not (page.parent / v).exists()]
     if missing:
         sys.exit(f"{args.report}: links {missing[0]}, which is not beside it")
+    from beeoptics.images.headless import chromium
+    from beeoptics.io.errors import InputError
+
+    try:
+        chromium()
+    except InputError as e:
+        sys.exit(f"beeoptics: error: {e}")
     runs, empty = [], []
     with tempfile.TemporaryDirectory() as tmp:
         blank = Path(tmp) / "empty.html"
