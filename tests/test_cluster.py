@@ -1,5 +1,7 @@
-"""The README's cluster command, as written, plans every job with the profile's resources."""
+"""The README's cluster section, as written: its command plans every job with the profile's resources, and
+what it says of a job cancelled by hand holds for the pinned SLURM plugin."""
 
+import os
 import re
 import shlex
 import shutil
@@ -53,3 +55,45 @@ def test_the_readme_cluster_command_plans_jobs_with_the_profiles_resources(tmp_p
             assert int(resources[key]) == want[key], (rule, key)
         # The CPUs a job asks for follow its threads, set in one place, the profile's set-threads.
         assert "cpus_per_task" not in resources, rule
+
+
+def plugin_status(tmp_path, monkeypatch, state):
+    """What the pinned SLURM plugin makes of one job that sacct reports in ``state``: "error", "success"
+    or "running" (the plugin's own status check, run against a stand-in sacct on the PATH)."""
+    import asyncio
+    from types import SimpleNamespace
+    from unittest import mock
+
+    from snakemake_executor_plugin_slurm import Executor
+
+    sacct = tmp_path / "sacct"
+    sacct.write_text(f"#!/bin/sh\necho '123|{state}'\n")
+    sacct.chmod(0o755)
+    monkeypatch.setenv("PATH", f"{tmp_path}:{os.environ['PATH']}")
+    settings = SimpleNamespace(init_seconds_before_status_checks=40, status_attempts=1, keep_successful_logs=True,
+                               requeue=False)
+    seen = []
+    executor = mock.MagicMock(
+        workflow=SimpleNamespace(executor_settings=settings), run_uuid="run", _status_query_calls=0,
+        _status_query_failures=0, _status_query_total_seconds=0.0, _status_query_min_seconds=None,
+        _status_query_max_seconds=0.0, _status_query_cycle_rows=[], next_seconds_between_status_checks=40,
+        _preemption_warning=False, _failed_nodes=set(),
+        report_job_error=lambda *a, **k: seen.append("error"), report_job_success=lambda *a, **k: seen.append("success"))
+    executor.get_status_command.return_value = "sacct"
+    job = SimpleNamespace(external_jobid="123", aux={"slurm_logfile": tmp_path / "123.log"})
+
+    async def check():
+        return [j async for j in Executor.check_active_jobs(executor, [job])]
+
+    still = asyncio.run(check())
+    return seen[0] if seen else ("running" if still else "lost")
+
+
+def test_the_readme_says_what_to_do_while_the_plugin_misreads_a_cancelled_job(tmp_path, monkeypatch):
+    """sacct reports a job cancelled by hand as 'CANCELLED by <uid>'. While the pinned plugin takes that
+    for a running job, the run waits forever and the README must say what to do; once it does not,
+    the paragraph goes."""
+    assert plugin_status(tmp_path, monkeypatch, "CANCELLED") == "error"
+    misread = plugin_status(tmp_path, monkeypatch, "CANCELLED by 0") == "running"
+    cluster = re.search(r"## On a cluster\n(.*?)\n## ", (ROOT / "README.md").read_text(), re.S).group(1)
+    assert misread == ("scancel" in cluster and "Ctrl-C" in cluster)

@@ -1,6 +1,7 @@
 """The workflow end to end, on a small eye and two small scenes, through Snakemake's CLI."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -156,17 +157,35 @@ def test_the_visual_field_exr_holds_the_catches_of_the_receptors_that_see(workdi
     assert (pixels[~seen][:, :3] == 0).all()
 
 
-def test_the_report_builds_with_every_figure_captioned(workdir):
+@pytest.fixture(scope="module")
+def report(workdir):
+    """The run's HTML report, written where the README writes it: in the run's folder."""
     # As the README gives it: no --cores, which only running jobs needs.
     result = subprocess.run(
         [SNAKEMAKE, "--snakefile", str(ROOT / "Snakefile"), "--directory", str(workdir),
          "--configfile", str(workdir / "config.yaml"), "--report", str(workdir / "report.html")],
         capture_output=True, text=True, cwd=workdir)
     assert result.returncode == 0, result.stderr[-3000:]
-    html = (workdir / "report.html").read_text()
+    return workdir / "report.html"
+
+
+def test_the_report_builds_with_every_figure_captioned(report):
+    html = report.read_text()
     for caption in ("binocular overlap", "Govardovskii", "Snyder", "colour hexagon", "Collins' Fig. 7",
                     "Normalised density", "Rayleigh limit"):
         assert caption in html, caption
+
+
+def test_the_report_links_every_viewer_and_embeds_none(workdir, report):
+    """Each viewer carries plotly.js (4.8 MB): embedded, nine of them made the report 143 MB. The report
+    links them from its captions instead, by their paths from the report's folder."""
+    html = report.read_text()
+    made = {p.relative_to(workdir).as_posix() for p in (workdir / "results").rglob("viewer.html")}
+    linked = set(re.findall(r'href=\\"(results/[^"\\]*viewer\.html)\\"', html))
+    assert made and linked == made
+    # No page embedded (Snakemake embeds every figure as a data URI).
+    assert "data:text/html" not in html
+    print(f"report: {report.stat().st_size / 1e6:.2f} MB, {len(linked)} viewers linked")
 
 
 def test_a_sweep_traces_every_combination_and_tables_them(workdir):

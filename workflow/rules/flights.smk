@@ -137,8 +137,8 @@ rule flight_views:
         catches="results/flights/{flight}/{eye}/views.npz",
         video=report("results/flights/{flight}/{eye}/views.mp4", caption="../report/views.rst",
                      category="Flights", subcategory="{flight}"),
-        viewer=report("results/flights/{flight}/{eye}/viewer.html", caption="../report/flight_viewer.rst",
-                      category="Interactive viewers", subcategory="{flight}"),
+        # Linked from the video's caption, not embedded in the report (as the scenes' viewers).
+        viewer="results/flights/{flight}/{eye}/viewer.html",
     params:
         eye=eye_file,
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",

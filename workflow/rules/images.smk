@@ -21,8 +21,9 @@ def image_outputs(receptor_set):
     out.update({name: report(base + file, caption="../report/colour_space.rst", category="Colour spaces",
                              subcategory="{eye} in {scene}")
                 for name, file in colour_figures(receptor_set).items()})
-    out["viewer"] = report(base + VIEWER["viewer"], caption="../report/viewer.rst", category="Interactive viewers",
-                           subcategory="{eye} in {scene}")
+    # The viewer is linked from the visual field's caption, not embedded: each page carries its own
+    # plotly.js (4.8 MB), and the report would hold one copy a viewer.
+    out["viewer"] = base + VIEWER["viewer"]
     return out
 
 
