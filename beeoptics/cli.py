@@ -14,7 +14,7 @@ import shutil
 import sys
 import tempfile
 from contextlib import contextmanager
-from functools import cache, reduce
+from functools import reduce
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +25,7 @@ from beeoptics.headframe import SIDES, eye_azimuth_elevation
 from beeoptics.io.atomic import Terminated, sigterm_as_interrupt, stop_behind
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, rows_of, write_receptors
-from beeoptics.io.validation import CONFIG_SCHEMA, check_background, load_yaml, validate, validate_config
+from beeoptics.io.validation import CONFIG_SCHEMA, check_background, config_default, load_yaml, validate, validate_config
 from beeoptics.pipeline.outputs import (COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES, VIEWER, colour_figures,
                                         retinal_images)
 
@@ -57,8 +57,9 @@ SETTINGS = {
         ("--batch-rays", "trace.batch_rays", int, "rays one thread traces at once; bounds memory (about 600 "
          "bytes a ray, times --threads)"),
         *GRID,
-        ("--background", "colour.background", str, "von Kries adapting background: 'scene' (the mean catch of all "
-         "receptors) or a material of the scene (a Lambertian surface under its sky and sun)"),
+        ("--background", "colour.background", str, "von Kries adapting background: 'scene' (the mean over the "
+         "receptors of each one's catch over its acceptance solid angle) or a material of the scene (a Lambertian "
+         "surface under its sky and sun)"),
         ("--sensitivities", "colour.sensitivities", str, "receptor curves: 'species' (the receptor set's own: "
          "measured where measured, for the honey bee Peitsch et al. 1992), 'template' (the A1 template at the set's "
          "λmax) or a CSV in pavo's layout with a column per receptor class of the set (UV, B, G for a bee)"),
@@ -70,12 +71,6 @@ SETTINGS = {
 }
 FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud",
            ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
-
-
-@cache
-def schema_defaults():
-    """The workflow config with every default filled in from its schema."""
-    return validate_config({}, CONFIG_SCHEMA, folders=False)
 
 
 def settings(args):
@@ -451,7 +446,7 @@ def info(args):
                 if key not in ("source", "delta_rho_anchors"):
                     print(f"{section} {key.replace('_', ' ')}: {_readable(value) or 'compared'}")
         return
-    scene = load_scene(path, grid(**schema_defaults()["spectral"]))
+    scene = load_scene(path, grid(**config_default("spectral")))
     data = validate(data, "scene", path)
     light, head, cam = data["light"], data["eye"], scene.camera
     print(f"scene: {scene.name}")
@@ -610,8 +605,7 @@ def parser():
     p.set_defaults(run=daylight)
     for command, options in SETTINGS.items():
         for option, key, kind, text in options:
-            sub.choices[command].add_argument(option, type=kind, default=reduce(dict.get, key.split("."),
-                                              schema_defaults()), help=f"{text} (default: %(default)s)")
+            sub.choices[command].add_argument(option, type=kind, default=config_default(key), help=f"{text} (default: %(default)s)")
 
     p = sub.add_parser("meadow", help="generate a meadow's mesh (and its flowers) from its meadow.yaml",
                        description=meadow.__doc__)

@@ -24,13 +24,18 @@ import numpy as np
 
 from beeoptics.io.errors import InputError
 from beeoptics.io.table import read_table, write_table
+from beeoptics.io.validation import config_default
 
 #: How far beyond its last measured wavelength a spectrum may be held
 #: constant, nm: FReD's spectra stop at 699 nm, one short of the grid.
 EDGE_TOLERANCE_NM = 2.0
 
 
-def grid(start_nm=300.0, end_nm=700.0, step_nm=5.0):
+#: The config schema's grid (``spectral``), the default of every door.
+_GRID = {key: float(value) for key, value in config_default("spectral").items()}
+
+
+def grid(start_nm=_GRID["start_nm"], end_nm=_GRID["end_nm"], step_nm=_GRID["step_nm"]):
     """The uniform wavelength grid, nm, both ends included."""
     n = int(round((end_nm - start_nm) / step_nm)) + 1
     return start_nm + step_nm * np.arange(n)

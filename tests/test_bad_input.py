@@ -406,7 +406,8 @@ def test_bad_measured_sensitivities_are_refused_naming_the_column(tmp_path, grid
 
 def test_good_measured_sensitivities_are_accepted(tmp_path, grid):
     path = pavo(tmp_path / "sensitivity.csv", bee_curves(WL))
-    assert measured_sensitivities(path, grid, ("UV", "B", "G"), (344.0, 436.0, 544.0)).sum(0) == \
+    # Each of area 1 nm on the grid (beeoptics.vision.sensitivity.unit_area).
+    assert measured_sensitivities(path, grid, ("UV", "B", "G"), (344.0, 436.0, 544.0)).sum(0) * (grid[1] - grid[0]) == \
         pytest.approx([1.0, 1.0, 1.0])
 
 

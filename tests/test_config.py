@@ -38,3 +38,41 @@ def test_a_wrong_key_or_value_stops_the_run_naming_it(edit, key):
     edit(cfg)
     with pytest.raises(WorkflowError, match=key):
         validate(cfg, SCHEMA, set_default=True)
+
+
+def test_every_door_takes_its_defaults_from_the_schema():
+    # The library's keyword defaults are the workflow's and the command line's: one source, the schema.
+    import inspect
+
+    import numpy as np
+
+    from beeoptics.eye.fieldofview import visual_field
+    from beeoptics.eye.optics import AcceptanceModel
+    from beeoptics.io.validation import config_defaults
+    from beeoptics.light.batching import TraceSettings
+    from beeoptics.pipeline import eyes, flights, images, polarisation, trace
+    from beeoptics.spectra import grid
+    from beeoptics.vision.receptorset import curves
+
+    config = config_defaults()
+    assert AcceptanceModel() == AcceptanceModel.from_config(config["eye"]["delta_rho"])
+    np.testing.assert_array_equal(grid(), grid(**config["spectral"]))
+    assert TraceSettings(1, 1, 1, 1024).sky_sampling == config["trace"]["sky_sampling"]
+    doors = [(trace.gather_responses, {"background": "colour.background", "receptor_curves": "colour.sensitivities"}),
+             (trace.respond, {"background": "colour.background", "receptor_curves": "colour.sensitivities"}),
+             (flights.flight_products, {"background": "colour.background"}),
+             (curves, {"setting": "colour.sensitivities"}),
+             (eyes.remesh_eye, {"edge_fraction": "eye.edge_fraction"}),
+             (images.retinal_images, {"width_px": "images.width_px"}),
+             (visual_field, {"width_px": "images.visual_field_width_px"}),
+             (polarisation.compass, {"headings": "polarisation.compass.headings",
+                                     "turbidities": "polarisation.compass.turbidities",
+                                     "heights_m": "polarisation.compass.heights_m",
+                                     "dorsal_rim_ps": "polarisation.dorsal_rim_ps"})]
+    for function, keys in doors:
+        parameters = inspect.signature(function).parameters
+        for name, key in keys.items():
+            value = config
+            for part in key.split("."):
+                value = value[part]
+            assert parameters[name].default == value, f"{function.__name__}({name}=…) is not the schema's {key}"

@@ -20,7 +20,7 @@ def test_template_peaks_at_lambda_max():
     assert abs(WL[np.argmax(govardovskii_a1(WL, 344.0))] - 344.0) <= 2
 
 
-def test_receptor_curves_sum_to_one_as_in_pavo():
+def test_receptor_curves_sum_to_one_on_pavos_1_nm_grid():
     s = receptor_sensitivities(WL, APIS.lambda_max_nm)
     np.testing.assert_allclose(s.sum(0), 1.0)
     assert tuple(WL[np.argmax(s, 0)][1:]) == tuple(APIS.lambda_max_nm[1:])

@@ -2,11 +2,11 @@
 
 import numpy as np
 
-from beeoptics.eye.fieldofview import extent, visual_field
+from beeoptics.eye.fieldofview import MAP_WIDTH_PX, extent, visual_field
 from beeoptics.eye.optics import nyquist_limit_cpd, rayleigh_limit_deg
 
 
-def acuity(table, rayleigh_nm, width_px=720):
+def acuity(table, rayleigh_nm, width_px=MAP_WIDTH_PX):
     """Acuity figures of an eye pair's receptors (both eyes together).
 
     Parameters

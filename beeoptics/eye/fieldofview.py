@@ -34,6 +34,10 @@ from scipy.spatial import cKDTree
 
 from beeoptics.eye.lattice import sphere_triangles
 from beeoptics.headframe import LEFT, RIGHT, direction_from_x_towards_y
+from beeoptics.io.validation import config_default
+
+#: Width of a visual-field map, pixels (half a degree each): the config schema's ``images.visual_field_width_px``.
+MAP_WIDTH_PX = config_default("images.visual_field_width_px")
 
 #: Bits of :attr:`VisualField.eyes`: which eyes see a direction.
 EYE_BITS = {RIGHT: 1, LEFT: 2}
@@ -112,7 +116,7 @@ def within_lattice(axes, delta_phi_deg, unit):
     return inside
 
 
-def visual_field(axes, sides, delta_rho_deg, delta_phi_deg, width_px=720):
+def visual_field(axes, sides, delta_rho_deg, delta_phi_deg, width_px=MAP_WIDTH_PX):
     """Which receptor, of which eye, sees each direction of the sphere.
 
     Parameters

@@ -61,15 +61,16 @@ from typing import NamedTuple
 import numpy as np
 
 from beeoptics.headframe import eye_direction
+from beeoptics.io.validation import config_default
 
 #: 4 ln 2, the "2.77" of Snyder's Gaussian.
 FOUR_LN2 = 4.0 * np.log(2.0)
-#: Acceptance angle of worker photoreceptors, degrees (Laughlin & Horridge 1971).
-DELTA_RHO_WORKER_DEG = 2.6
 #: Rhabdom angular width d/f of workers, degrees (Somanathan et al. 2009, Table 1).
 RHABDOM_ACCEPTANCE_DEG = 1.7
-#: Wavelength for the diffraction term, nm (Land 1990).
-SNYDER_WAVELENGTH_NM = 500.0
+#: Wavelength for the diffraction term, nm (Land 1990): the config schema's ``eye.delta_rho.wavelength_nm``.
+SNYDER_WAVELENGTH_NM = config_default("eye.delta_rho.wavelength_nm")
+#: The config's acceptance model, the default of every door (``eye.delta_rho`` in the config schema).
+_DEFAULT = config_default("eye.delta_rho")
 #: The Rayleigh criterion's factor: the first zero of the Airy pattern, in λ/D (Airy 1835).
 RAYLEIGH_FACTOR = 1.22
 
@@ -81,12 +82,14 @@ class AcceptanceModel(NamedTuple):
     values, :func:`measured_delta_rho`; Snyder's model; or a multiple of
     Δφ), ``fixed_deg`` for an eye that names none; "fixed" gives every
     receptor ``fixed_deg``; "snyder" takes Δρ from the facet diameter at
-    ``wavelength_nm`` (:func:`snyder_delta_rho`).
+    ``wavelength_nm`` (:func:`snyder_delta_rho`). The defaults are the
+    config schema's (``eye.delta_rho``), as the workflow and the command
+    line have them.
     """
 
-    model: str = "fixed"
-    fixed_deg: float = DELTA_RHO_WORKER_DEG
-    wavelength_nm: float = SNYDER_WAVELENGTH_NM
+    model: str = _DEFAULT["model"]
+    fixed_deg: float = _DEFAULT["fixed_deg"]
+    wavelength_nm: float = _DEFAULT["wavelength_nm"]
 
     @classmethod
     def from_config(cls, delta_rho):

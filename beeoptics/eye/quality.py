@@ -12,7 +12,7 @@ from scipy.spatial import ConvexHull, cKDTree
 from scipy.spatial.distance import pdist
 
 from beeoptics.eye import fieldmodel
-from beeoptics.eye.fieldofview import extent, visual_field
+from beeoptics.eye.fieldofview import MAP_WIDTH_PX, extent, visual_field
 from beeoptics.eye.lattice import mean_over_edges, neighbour_counts
 from beeoptics.headframe import LEFT, RIGHT, eye_azimuth_elevation, eye_direction, in_eye_plane, mirror
 
@@ -91,7 +91,7 @@ def optics_quality(axes_head, dphi, facet_um, points_head):
     }
 
 
-def fields(axes_head, normals_head, delta_rho_deg, delta_phi_deg, normals_delta_phi_deg, width_px=720):
+def fields(axes_head, normals_head, delta_rho_deg, delta_phi_deg, normals_delta_phi_deg, width_px=MAP_WIDTH_PX):
     """Both eyes' fields with the receptors' axes and with the corneal normals at their facets.
 
     Parameters
@@ -123,7 +123,7 @@ def fields(axes_head, normals_head, delta_rho_deg, delta_phi_deg, normals_delta_
     return out
 
 
-def field_match(axes_head, delta_rho_deg, delta_phi_deg, width_px=720):
+def field_match(axes_head, delta_rho_deg, delta_phi_deg, width_px=MAP_WIDTH_PX):
     """How one eye's field (the right one, head frame) covers the measured field and strays beyond it.
 
     A direction is in our field when it lies inside the lattice of axes or

@@ -14,5 +14,6 @@ __all__, __getattr__ = exports(__name__, {
     "meshfile": ("read_mesh", "read_mesh_normals", "write_mesh"),
     "receptortable": ("COLUMNS", "ReceptorTable", "read_receptors", "write_receptors"),
     "interchange": ("read_compoundray_eye", "read_receptor_ply", "write_compoundray_eye", "write_receptor_ply"),
-    "validation": ("CONFIG_SCHEMA", "check_background", "load_yaml", "validate", "validate_config"),
+    "validation": ("CONFIG_SCHEMA", "check_background", "config_default", "config_defaults", "load_yaml", "validate",
+                   "validate_config"),
 })

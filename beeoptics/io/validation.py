@@ -120,6 +120,29 @@ def validate(data, schema_name, path):
     return _check(data, _validator(schema_name), path)
 
 
+@cache
+def _config_defaults():
+    return validate_config({}, CONFIG_SCHEMA, folders=False)
+
+
+def config_defaults():
+    """The workflow's config with every default filled in from :data:`CONFIG_SCHEMA`, a fresh copy.
+
+    The one source of every default: the workflow, the command line and the
+    library's functions (their keyword defaults) all read it, so that each
+    door gives the same result.
+    """
+    return copy.deepcopy(_config_defaults())
+
+
+def config_default(key):
+    """The default of one config key, dotted (``"colour.background"``), from :func:`config_defaults`."""
+    value = _config_defaults()
+    for part in key.split("."):
+        value = value[part]
+    return copy.deepcopy(value)
+
+
 #: Where each list of classes in the config finds its folders, and the file each folder holds.
 CONFIG_FOLDERS = {"eyes": ("eyes_dir", "eye.yaml"), "scenes": ("scenes_dir", "scene.yaml")}
 

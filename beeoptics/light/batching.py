@@ -20,6 +20,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from beeoptics.io.validation import config_default
+
 #: Samples in a block: a bundle with more is traced in blocks of this many. The
 #: smallest ``batch_rays`` the config allows, so that a block always fits a batch.
 SAMPLE_BLOCK = 1024
@@ -36,14 +38,14 @@ class TraceSettings(NamedTuple):
     seed: int
     batch_rays: int
     threads: int = 1
-    sky_sampling: str = "nee"
+    sky_sampling: str = config_default("trace.sky_sampling")
 
     @classmethod
     def from_config(cls, trace, threads=1, samples=None):
         """The settings of a config's ``trace`` section; ``samples`` overrides its samples per receptor."""
         return cls(samples=trace["samples_per_receptor"] if samples is None else samples, depth=trace["depth"],
                    seed=trace["seed"], batch_rays=trace["batch_rays"], threads=threads,
-                   sky_sampling=trace.get("sky_sampling", "nee"))
+                   sky_sampling=trace.get("sky_sampling", cls._field_defaults["sky_sampling"]))
 
 
 class Blocks(NamedTuple):

@@ -31,7 +31,7 @@ from beeoptics.pipeline.trace import trace_cones
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import COLUMNS, RING_DELTA_PHI, detect, local_background
-from beeoptics.vision.receptorset import SPECIES, curves, lacking, ommatidium_types, receptor_set_of
+from beeoptics.vision.receptorset import DEFAULT_CURVES, curves, lacking, ommatidium_types, receptor_set_of
 from beeoptics.world.meadow import FLOWER_COLUMNS
 
 #: The criteria whose first distances an approach reports: a verdict column, and the receptor-level
@@ -64,7 +64,7 @@ def approach_poses(centre, azimuth_deg, descent_deg, distances_m):
 
 
 def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectral, settings, survey,
-           receptor_curves=SPECIES):
+           receptor_curves=DEFAULT_CURVES):
     """Approach a sample of a meadow's flowers with one eye: ``outputs["views"]`` and ``outputs["approaches"]``.
 
     ``views`` has a row per flower, direction and distance (the flower, its

@@ -17,7 +17,7 @@ from beeoptics.eye import fieldmodel
 from beeoptics.eye.cornea import measured_normals
 from beeoptics.eye.description import cornea_points, load_eye, load_eye_mesh
 from beeoptics.eye.given import build_given, given_right_eye, surface
-from beeoptics.eye.fieldofview import visual_field
+from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
 from beeoptics.eye.lattice import kernel_mean
 from beeoptics.eye.remesh import remesh, target_edge_mm
 from beeoptics.images import figures
@@ -27,16 +27,15 @@ from beeoptics.io.meshfile import read_mesh_normals, write_mesh
 from beeoptics.io.receptortable import read_receptors, write_receptors
 from beeoptics.headframe import RIGHT
 from beeoptics.io.table import write_table
+from beeoptics.io.validation import config_default
 from beeoptics.pipeline.logs import log
 from beeoptics.vision.receptorset import peaks_nm, receptor_set_of
 #: The Δφ map's kernel, in facet spacings: wide enough to average a facet's six-edge noise over
 #: some thirty facets, narrow against the eye's hundred-facet gradients.
 DELTA_PHI_KERNEL = 3.0
-#: Width of the field-of-view figure's map, pixels (half a degree each).
-FIELD_MAP_WIDTH_PX = 720
 
 
-def remesh_eye(eye_file, outputs, *, edge_fraction=0.5, subdivisions=2):
+def remesh_eye(eye_file, outputs, *, edge_fraction=config_default("eye.edge_fraction"), subdivisions=2):
     """Remesh an eye's hand-made mesh isotropically: ``outputs["remeshed"]``, a PLY with normals.
 
     The target edge is ``edge_fraction`` of the mean facet diameter of the
@@ -121,7 +120,7 @@ def eye_figures(eye_file, relaxation_npz, receptors_csv, quality_json, outputs):
                     "facet diameter, µm", f"{eye.name}: facet diameter")
     right = table.side == RIGHT
     field = visual_field(table.axis[right], table.side[right], table.delta_rho_deg[right],
-                         table.delta_phi_deg[right], FIELD_MAP_WIDTH_PX)
+                         table.delta_phi_deg[right], MAP_WIDTH_PX)
     # The map's azimuth runs towards the bee's left; the right eye's own, towards its right, from -90°.
     order = np.argsort((-field.azimuth_deg + 90.0) % 360.0)
     azimuth = (-field.azimuth_deg[order] + 90.0) % 360.0 - 90.0
@@ -139,7 +138,7 @@ def eye_figures(eye_file, relaxation_npz, receptors_csv, quality_json, outputs):
     figures.field_of_view(azimuth, field.elevation_deg, seen, outputs["field_of_view"], title, border)
 
 
-def acuity_table(eyes, outputs, *, width_px=720):
+def acuity_table(eyes, outputs, *, width_px=MAP_WIDTH_PX):
     """Compare eye classes: ``outputs["acuity"]``, one row each, and ``outputs["fields"]``, a figure of their fields.
 
     A row holds the eye's species and specimen (its intertegular width,

@@ -22,6 +22,7 @@ from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.imagefile import write_gif, write_mp4
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
+from beeoptics.io.validation import config_default
 from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
 from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.images import display_words
@@ -30,7 +31,7 @@ from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background
-from beeoptics.vision.receptorset import SPECIES, curves, lacking, ommatidium_types
+from beeoptics.vision.receptorset import DEFAULT_CURVES, curves, lacking, ommatidium_types
 from beeoptics.world.flight import (azimuth_elevation_components, disc_angular_diameter, disc_hits, frame_times,
                                     optic_flow, pose, read_flight)
 
@@ -118,7 +119,7 @@ def first_detections(columns):
 
 
 def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, *, fps, spectral, receptor_set,
-                    target=None, background="scene", receptor_curves=SPECIES, title=""):
+                    target=None, background=config_default("colour.background"), receptor_curves=DEFAULT_CURVES, title=""):
     """The frames of one eye's flight, gathered from the shares of :func:`trace_frames` and
     :func:`human_frames` (``frame_npzs``, ``human_npzs``, in order).
 
@@ -201,7 +202,7 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
                        "(Koenderink & van Doorn 1987), every receptor")
 
 
-def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_set, target, receptor_curves=SPECIES,
+def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_set, target, receptor_curves=DEFAULT_CURVES,
                      title=""):
     """Whether, and how, an eye detects a flight's target along it, from the shares of
     :func:`trace_frames` (``frame_npzs``, in order, traced with the target).
@@ -257,7 +258,7 @@ VIEW_FRAMES_AT_ONCE = 8
 
 
 def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *, fps, spectral, settings,
-                 receptor_set, receptor_curves=SPECIES, width_px=MAP_WIDTH_PX, title="", progress=None):
+                 receptor_set, receptor_curves=DEFAULT_CURVES, width_px=MAP_WIDTH_PX, title="", progress=None):
     """Views along a route, light and long: every receptor's catches at every frame of a flight, in one job.
 
     The scene is loaded once and every frame's receptors are traced with

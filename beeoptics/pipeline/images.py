@@ -7,7 +7,7 @@ mapping of output names to paths, atomically.
 import numpy as np
 
 from beeoptics.eye.description import load_eye
-from beeoptics.eye.fieldofview import visual_field
+from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
 from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode, polarisation_colours
 from beeoptics.images.fieldmaps import paint
@@ -17,10 +17,11 @@ from beeoptics.images.retina import canvas, density, nearest_receptor, panel_ext
 from beeoptics.io.imagefile import read_image, write_exr
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table
+from beeoptics.io.validation import config_default
 from beeoptics.spectra import grid
 from beeoptics.vision import colourspace
 from beeoptics.vision.catches import photon_flux
-from beeoptics.vision.receptorset import SPECIES, curves, describe, overall
+from beeoptics.vision.receptorset import DEFAULT_CURVES, curves, describe, overall
 
 
 def _responses(responses_csv, irradiance_npz, receptor_set, columns=()):
@@ -48,7 +49,7 @@ RETINAL_CAPTIONS = {
 }
 
 
-def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_set, width_px=400,
+def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_set, width_px=config_default("images.width_px"),
                    title=""):
     """Voronoi, density and channel images of one eye in one scene, and the EXR of catches.
 
@@ -92,7 +93,7 @@ def display_words(receptor_set):
 
 
 def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, outputs, *, receptor_set,
-                      width_px=720):
+                      width_px=MAP_WIDTH_PX):
     """Both eyes' visual field in azimuth and elevation, beside the human view.
 
     Writes ``figure`` (PNG: map3 and map2 on the sphere, the binocular
@@ -118,7 +119,7 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
               (*receptor_set.classes, "eyes"))
 
 
-def colour_figures(responses_csv, irradiance_npz, outputs, *, receptor_set, title="", receptor_curves=SPECIES):
+def colour_figures(responses_csv, irradiance_npz, outputs, *, receptor_set, title="", receptor_curves=DEFAULT_CURVES):
     """Every receptor's colour in the bee colour triangle and hexagon (Collins Fig. 5b), those the set has.
 
     The spectral locus's lights are adapted to the same background as the
@@ -167,7 +168,7 @@ def _locus_inputs(data, receptor_set, receptor_curves):
             photon_flux(data["white_radiance"], wl).sum())
 
 
-def hexagon_locus(data, receptor_set, receptor_curves=SPECIES):
+def hexagon_locus(data, receptor_set, receptor_curves=DEFAULT_CURVES):
     """The spectral locus at one stated intensity, and its legend.
 
     Each light is a spike of one grid bin carrying the whole photon flux of
@@ -178,12 +179,12 @@ def hexagon_locus(data, receptor_set, receptor_curves=SPECIES):
     return colourspace.spectral_locus(*_locus_inputs(data, receptor_set, receptor_curves)), LOCUS_WORDS
 
 
-def widest_locus(data, receptor_set, receptor_curves=SPECIES):
+def widest_locus(data, receptor_set, receptor_curves=DEFAULT_CURVES):
     """:func:`beeoptics.vision.colourspace.widest_spectral_locus` relative to the flux of :func:`hexagon_locus`."""
     return colourspace.widest_spectral_locus(*_locus_inputs(data, receptor_set, receptor_curves))
 
 
-def sensitivity_figure(outputs, *, spectral, receptor_set, receptor_curves=SPECIES):
+def sensitivity_figure(outputs, *, spectral, receptor_set, receptor_curves=DEFAULT_CURVES):
     """Collins Fig. 6 and 5a, ``outputs["figure"]``: a receptor set's curves and, where it has one, its
     overall S(λ)."""
     wl = grid(**spectral)
@@ -193,7 +194,7 @@ def sensitivity_figure(outputs, *, spectral, receptor_set, receptor_curves=SPECI
 
 
 def viewer(receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_set, polarisation_csv=None, title="",
-           receptor_curves=SPECIES):
+           receptor_curves=DEFAULT_CURVES):
     """The interactive viewer of one eye in one scene: ``outputs["viewer"]``, a self-contained HTML page
     (:func:`beeoptics.images.viewer.receptor_viewer`).
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from beeoptics.eye.description import load_eye
 from beeoptics.eye.optics import acceptance_solid_angle
-from beeoptics.eye.fieldofview import visual_field
+from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
 from beeoptics.headframe import head_rotation, in_eye_plane
 from beeoptics.images import figures
 from beeoptics.images.display import polarisation_colours
@@ -20,6 +20,7 @@ from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
+from beeoptics.io.validation import config_default
 from beeoptics.light.scene import load_scene, raycasting_scene, relit
 from beeoptics.light.skypolarisation import patterns
 from beeoptics.pipeline.logs import log
@@ -29,7 +30,7 @@ from beeoptics.spectra import grid
 from beeoptics.vision import compass as sky_compass
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.polarisation import DORSAL_RIM_PS, degree_and_angle, head_frame_stokes, receptor_catch
-from beeoptics.vision.receptorset import SPECIES, curves
+from beeoptics.vision.receptorset import DEFAULT_CURVES, curves
 
 #: The colour map of polarisation: hue the angle (0–180°, cyclic), saturation the degree, full value.
 POLARISATION_CAPTION = ("Polarisation each receptor sees, UV receptors' catch: hue is the angle of polarisation about "
@@ -46,7 +47,7 @@ def _dorsal_rim(table, source):
     return table.dorsal_rim.astype(bool)
 
 
-def stokes_catches(stokes, delta_rho_deg, wavelengths, receptor_set, receptor_curves=SPECIES):
+def stokes_catches(stokes, delta_rho_deg, wavelengths, receptor_set, receptor_curves=DEFAULT_CURVES):
     """Each receptor class's catch of the spectral Stokes vectors (n, 3, wl): (n, classes, 3), in their frame."""
     sens = curves(receptor_set, wavelengths, receptor_curves)
     irradiance = stokes * acceptance_solid_angle(delta_rho_deg)[:, None, None]
@@ -62,7 +63,8 @@ def _analysers(receptor_set, source):
 
 
 def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral, settings, dorsal_rim_ps,
-                      receptor_set, width_px=400, field_width_px=720, title="", receptor_curves=SPECIES):
+                      receptor_set, width_px=config_default("images.width_px"),
+                      field_width_px=MAP_WIDTH_PX, title="", receptor_curves=DEFAULT_CURVES):
     """Trace every receptor's Stokes vector; write the table and maps of the polarisation it sees.
 
     Outputs: ``table`` (CSV, one row per receptor: each class's catch of I,
@@ -122,8 +124,11 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
                        f"{title}: the dorsal rim's POL units")
 
 
-def compass(receptors_csv, scene_file, outputs, *, spectral, settings, headings=36, turbidities=(2.0, 3.0, 5.0, 8.0),
-            heights_m=(), dorsal_rim_ps=DORSAL_RIM_PS, receptor_set, title="", receptor_curves=SPECIES):
+def compass(receptors_csv, scene_file, outputs, *, spectral, settings,
+            headings=config_default("polarisation.compass.headings"),
+            turbidities=config_default("polarisation.compass.turbidities"),
+            heights_m=config_default("polarisation.compass.heights_m"), dorsal_rim_ps=DORSAL_RIM_PS, receptor_set,
+            title="", receptor_curves=DEFAULT_CURVES):
     """The sky compass of the dorsal rim over a full turn of the bee, in a scene, and as turbidity grows.
 
     The head turns about the vertical through ``headings`` evenly spaced

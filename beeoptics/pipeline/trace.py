@@ -15,7 +15,7 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.imagefile import write_exr, write_png
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
-from beeoptics.io.validation import check_background
+from beeoptics.io.validation import check_background, config_default
 from beeoptics.light.batching import trace_bundles
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
@@ -27,7 +27,7 @@ from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.colourspace import colour_coordinates
 from beeoptics.vision.human import srgb, tristimulus
-from beeoptics.vision.receptorset import SPECIES, curves, lacking, ommatidium_types, overall
+from beeoptics.vision.receptorset import DEFAULT_CURVES, brightness_weights, curves, lacking, ommatidium_types
 
 #: The share of receptors meeting back faces that says an eye is enclosed: below a ground or inside a
 #: closed mesh every one does; among two-sided blades and petals about half do (58 % of the worker's in
@@ -155,8 +155,8 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     return (radiance, counts) if target is None else (radiance, counts, cover)
 
 
-def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, receptor_set, background="scene",
-                     light=None, receptor_curves=SPECIES):
+def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, receptor_set, background=config_default("colour.background"),
+                     light=None, receptor_curves=DEFAULT_CURVES):
     """Catches and colour-space coordinates of every receptor: ``outputs["responses"]`` and ``["irradiance"]``.
 
     Parameters
@@ -167,8 +167,9 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
         The config's ``spectral`` section.
     background : str
         The adapting background of von Kries adaptation: ``"scene"``, the
-        mean catch over both eyes, or the name of one of the scene's
-        materials, as a Lambertian surface under the scene's sky and sun.
+        mean radiance catch of the receptors of both eyes, or the name of one
+        of the scene's materials, as a Lambertian surface under the scene's
+        sky and sun (:func:`respond`).
     receptor_set : ReceptorSet
         The eye's receptor classes (:mod:`beeoptics.vision.receptorset`).
     light : dict, optional
@@ -191,23 +192,34 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
         np.savez(tmp, id=table.id, wavelength_nm=wl, **arrays)
 
 
-def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background="scene", receptor_curves=SPECIES):
+def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=config_default("colour.background"),
+            receptor_curves=DEFAULT_CURVES):
     """Every receptor's catches and colour coordinates from its spectral radiance (n, wavelengths) on the grid ``wl``.
 
-    Returns the responses table's columns (id, side, a catch per class of
-    ``receptor_set`` named as the set names it (UV, B, G for a bee), the
-    brightness where the set has an overall sensitivity, colour-space
-    coordinates) and the arrays of the irradiance file:
+    Returns the responses table's columns (id, side, its acceptance solid
+    angle ``acceptance_sr``, a catch per class of ``receptor_set`` named as
+    the set names it (UV, B, G for a bee), the brightness where the set has
+    an overall sensitivity, colour-space coordinates) and the arrays of the
+    irradiance file:
     ``radiance``, ``irradiance`` (float32), ``background_q`` (the adapting
     catches), ``white_radiance`` (a white Lambertian surface under the
     scene's sky and sun) and ``white_q`` (each receptor's catch of it,
     map3's unity). See :func:`gather_responses` for ``background``.
+
+    Every column of colour is computed from the table's own columns: a
+    receptor adapts through its own acceptance, so that its Δρ moves none of
+    its colour coordinates. Its catch over ``acceptance_sr`` (a radiance
+    catch) is divided by the background's: for ``"scene"`` the mean of
+    that over the table's receptors that have the class, for a material
+    the radiance catch of that surface (``background_q``).
     """
-    irradiance = radiance * acceptance_solid_angle(table.delta_rho_deg)[:, None]
+    omega = acceptance_solid_angle(table.delta_rho_deg)
     sens = curves(receptor_set, wl, receptor_curves)
+    irradiance = radiance * omega[:, None]
     catches = quantum_catches(irradiance, sens, wl)
-    # Adaptation compares radiances: the acceptance solid angle cancels in every ratio.
-    seen = quantum_catches(radiance, sens, wl)
+    types = ommatidium_types(receptor_set, len(table.id))
+    catches[lacking(receptor_set, types)] = np.nan
+    seen = catches / omega[:, None]
     # A white Lambertian surface under the scene's sky and sun: what a named
     # background reflects, and the photon flux of the spectral locus's lights.
     white = horizontal_irradiance(scene.sky, scene.sun, len(wl)) / np.pi
@@ -220,18 +232,17 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
         raise InputError(scene_file, "colour.background",
                          f"the background {background!r} gives no catch in some receptor class; "
                          "von Kries adaptation needs a background every class sees")
-    types = ommatidium_types(receptor_set, len(table.id))
-    catches[lacking(receptor_set, types)] = np.nan
     columns = {"id": table.id, "side": table.side}
     if types is not None:
         columns["ommatidium"] = np.array([receptor_set.mosaic[k][0] for k in types])
+    columns["acceptance_sr"] = omega
     columns.update({r: catches[:, k] for k, r in enumerate(receptor_set.classes)})
-    brightness = overall(receptor_set, wl, sens)
-    if brightness is not None:
-        columns["brightness"] = quantum_catches(irradiance, (brightness / brightness.sum())[:, None], wl)[:, 0]
+    weights = brightness_weights(receptor_set, wl, sens)
+    if weights is not None:
+        columns["brightness"] = catches @ weights
     columns.update(colour_coordinates(seen, reference, receptor_set))
     # What each receptor would catch of the white surface: map3's unity.
-    white_q = quantum_catches(white[None] * acceptance_solid_angle(table.delta_rho_deg)[:, None], sens, wl)
+    white_q = quantum_catches(white[None] * omega[:, None], sens, wl)
     return columns, {"radiance": radiance.astype(np.float32), "irradiance": irradiance.astype(np.float32),
                      "background_q": reference, "white_radiance": white, "white_q": white_q}
 

@@ -7,10 +7,10 @@ Names follow pavo's where pavo has the concept (Maia et al. 2019), so R users re
 from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
-    "sensitivity": ("govardovskii_a1", "measured_sensitivities", "overall_sensitivity",
-                    "receptor_sensitivities"),
-    "receptorset": ("DEFAULT_SET", "SPECIES", "TEMPLATE", "ReceptorSet", "curves", "describe", "load_receptor_set",
-                    "overall"),
+    "sensitivity": ("govardovskii_a1", "measured_sensitivities", "overall_sensitivity", "overall_weights",
+                    "receptor_sensitivities", "unit_area"),
+    "receptorset": ("DEFAULT_CURVES", "DEFAULT_SET", "SPECIES", "TEMPLATE", "ReceptorSet", "brightness_weights",
+                    "curves", "describe", "load_receptor_set", "overall"),
     "catches": ("photon_flux", "quantum_catches"),
     "adaptation": ("background_catches",),
     "colourspace": ("colour_coordinates", "coc", "coc_distance", "excitation", "hexagon", "hexagon_polar",

@@ -2,9 +2,12 @@
 
 Colour spaces (:mod:`beeoptics.vision.colourspace`) divide each receptor's
 catch by its catch from the adapting background (von Kries), so that the
-background sits at the centre of every space. The background is either the
-scene itself, the mean of every receptor's catch, or a named surface,
-given by the radiance it sends to the eye.
+background sits at the centre of every space. The catches compared are
+radiance catches (a receptor's catch over its acceptance solid angle), so
+that each receptor adapts through its own acceptance. The background is
+either the scene itself, the mean radiance catch of the receptors that
+have the class, or a named surface, given by the radiance it sends to the
+eye.
 
 References
 ----------
@@ -22,21 +25,23 @@ def background_catches(seen, sensitivities, wavelengths, background_radiance=Non
 
     Parameters
     ----------
-    seen : ndarray (n, 3)
-        The catches of every receptor from its mean radiance.
+    seen : ndarray (n, classes)
+        The catches of every receptor from its mean radiance; NaN where its
+        ommatidium lacks the class.
     sensitivities : ndarray (n_wavelengths, 3)
     wavelengths : ndarray
         nm.
     background_radiance : ndarray (n_wavelengths,), optional
         The radiance of a named background surface; without it, the scene
-        is the background and its catch the mean of ``seen``.
+        is the background and its catch the mean of ``seen`` over the
+        receptors that have the class.
 
     Returns
     -------
-    ndarray (3,)
+    ndarray (classes,)
         In the units of ``seen``; radiance catches, so that the acceptance
         solid angle cancels in every ratio.
     """
     if background_radiance is None:
-        return seen.mean(axis=0)
+        return np.nanmean(seen, axis=0)
     return quantum_catches(np.asarray(background_radiance)[None], sensitivities, wavelengths)[0]

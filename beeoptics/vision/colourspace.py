@@ -100,9 +100,10 @@ class SpectralLocus(NamedTuple):
 def reflectance_catches(reflectance, illuminant, sensitivities, wavelengths):
     """Quantum catches of surfaces under an illuminant, as pavo's ``vismodel``.
 
-    Q_i = Σ_λ R(λ) I(λ) S_i(λ) Δλ. On pavo's 1-nm grid this is pavo's
-    plain sum; Δλ keeps it the same convention as
-    :func:`beeoptics.vision.catches.quantum_catches` on coarser grids. For the
+    Q_i = Σ_λ R(λ) I(λ) S_i(λ) Δλ, with curves of area 1 nm
+    (:func:`beeoptics.vision.sensitivity.unit_area`): on pavo's 1-nm grid
+    pavo's plain sum, and on any grid the same integral as
+    :func:`beeoptics.vision.catches.quantum_catches`. For the
     adapting background, pass the background's reflectance: its catches are
     the Q_b that :func:`von_kries` divides by.
 

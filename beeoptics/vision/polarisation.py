@@ -48,8 +48,11 @@ Gkanias E, Risse B, Mangan M, Webb B (2019) PLoS Comput Biol 15:e1007123.
 
 import numpy as np
 
-#: The dorsal rim's UV receptors' polarisation sensitivity (Labhart 1980, as quoted: see above).
-DORSAL_RIM_PS = 6.6
+from beeoptics.io.validation import config_default
+
+#: The dorsal rim's UV receptors' polarisation sensitivity (Labhart 1980, as quoted: see above): the
+#: config schema's ``polarisation.dorsal_rim_ps``.
+DORSAL_RIM_PS = config_default("polarisation.dorsal_rim_ps")
 
 
 def analyser_ps(setting):

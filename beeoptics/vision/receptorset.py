@@ -48,8 +48,9 @@ from typing import NamedTuple
 import numpy as np
 
 from beeoptics.io.errors import InputError
-from beeoptics.io.validation import load_yaml, validate
-from beeoptics.vision.sensitivity import measured_sensitivities, overall_sensitivity, receptor_sensitivities
+from beeoptics.io.validation import config_default, load_yaml, validate
+from beeoptics.vision.sensitivity import (measured_sensitivities, overall_sensitivity, overall_weights,
+                                          receptor_sensitivities)
 
 #: The receptor sets the package ships, by name.
 SETS_DIR = Path(__file__).parent / "data" / "receptor_sets"
@@ -57,6 +58,8 @@ SETS_DIR = Path(__file__).parent / "data" / "receptor_sets"
 DEFAULT_SET = "apis_mellifera"
 #: ``colour.sensitivities``: each set's own curves, or the A1 template at each set's λmax.
 SPECIES, TEMPLATE = "species", "template"
+#: The receptor curves of every door that is not told otherwise: the config schema's ``colour.sensitivities``.
+DEFAULT_CURVES = config_default("colour.sensitivities")
 #: The display channels of map3, in RGB order.
 DISPLAY = ("red", "green", "blue")
 #: The seed of a mosaic's draw: a fixed one, so that an eye's ommatidia keep their types in every
@@ -267,8 +270,8 @@ def receptor_set_of(eye_yaml):
     return load_receptor_set(doc["receptors"], base=path.parent, source=path)
 
 
-def curves(receptor_set, wavelengths, setting=SPECIES):
-    """The set's receptor curves on a grid, (n_wavelengths, classes), each summing to one.
+def curves(receptor_set, wavelengths, setting=DEFAULT_CURVES):
+    """The set's receptor curves on a grid, (n_wavelengths, classes), each of area 1 nm (pavo's on its 1-nm grid).
 
     ``setting`` is :data:`SPECIES` (the set's measured curves, or the
     template where it has none), :data:`TEMPLATE` (the A1 template at the
@@ -295,7 +298,7 @@ def peaks_nm(receptor_set):
     return lam
 
 
-def describe(receptor_set, setting=SPECIES):
+def describe(receptor_set, setting=DEFAULT_CURVES):
     """A receptor-curve setting in words, for figures."""
     if setting == TEMPLATE or (setting == SPECIES and receptor_set.curves_file is None):
         peaks = "/".join(f"{v:g}" for v in receptor_set.lambda_max_nm)
@@ -310,3 +313,11 @@ def overall(receptor_set, wavelengths, sensitivities):
     if receptor_set.overall is None:
         return None
     return overall_sensitivity(wavelengths, sensitivities, *receptor_set.overall)
+
+
+def brightness_weights(receptor_set, wavelengths, sensitivities):
+    """The weights (classes,) of the receptors' catches in the brightness, summing to one, or None if the set
+    has no overall sensitivity (:func:`beeoptics.vision.sensitivity.overall_weights`)."""
+    if receptor_set.overall is None:
+        return None
+    return overall_weights(wavelengths, sensitivities, *receptor_set.overall)

@@ -3,8 +3,14 @@
 A receptor class's curve is either measured (a table in pavo's layout:
 a wavelength column, then one column per class) or modelled with the A1
 visual-pigment template of Govardovskii et al. (2000), α and β bands, at
-the class's measured peak wavelength λmax. As in pavo's ``sensmodel`` each
-curve sums to one over the grid ("integrate"). Which classes a species
+the class's measured peak wavelength λmax. Each curve is normalised to an
+area of one nanometre, Σ S(λ) Δλ = 1 nm (:func:`unit_area`), so that a
+quantum catch Q = ∫ S(λ) E_p(λ) dλ is the same on any grid up to the
+integration error, and equal to pavo's on pavo's 1-nm grid, where
+``sensmodel(integrate = TRUE)`` makes each curve sum to one ("a total area
+under the curve of 1", ``wl <- range[1]:range[2]``, ``peaks / rowSums(peaks)``
+in ``R/sensmodel.R``) and ``vismodel`` sums S·E over that grid without a
+step (``colSums(y * S[, x] * illum)``). Which classes a species
 has, and which curves it uses, is the species' receptor set
 (:mod:`beeoptics.vision.receptorset`).
 
@@ -66,15 +72,25 @@ def govardovskii_a1(wavelengths, lambda_max, beta=True):
     return s
 
 
+def unit_area(curves, wavelengths):
+    """Curves (n_wavelengths, k) scaled to an area of 1 nm each on the uniform grid ``wavelengths`` (nm).
+
+    The area is the rectangle rule's Σ S Δλ, the rule by which
+    :func:`beeoptics.vision.catches.quantum_catches` integrates, so that a
+    flat spectrum's catch is its value exactly on every grid. Dimensionless;
+    on pavo's 1-nm grid these are pavo's curves, each summing to one.
+    """
+    curves = np.asarray(curves, float)
+    return curves / (curves.sum(axis=0) * float(wavelengths[1] - wavelengths[0]))
+
+
 def receptor_sensitivities(wavelengths, lambda_max):
-    """Template curves at the peaks ``lambda_max`` (nm), shape (len(wavelengths), k), each summing to one."""
-    s = np.column_stack([govardovskii_a1(wavelengths, lm) for lm in lambda_max])
-    s /= s.max(axis=0)
-    return s / s.sum(axis=0)
+    """Template curves at the peaks ``lambda_max`` (nm), shape (len(wavelengths), k), each of area 1 nm."""
+    return unit_area(np.column_stack([govardovskii_a1(wavelengths, lm) for lm in lambda_max]), wavelengths)
 
 
 def measured_sensitivities(path, wavelengths, classes, lambda_max=None):
-    """Receptor curves from a CSV in pavo's layout, one column per class in order, each summing to one.
+    """Receptor curves from a CSV in pavo's layout, one column per class in order, each of area 1 nm.
 
     Parameters
     ----------
@@ -108,18 +124,26 @@ def measured_sensitivities(path, wavelengths, classes, lambda_max=None):
                     f"peaks at {peaks[after]:g} nm, not beyond {names[before]} ({peaks[before]:g} nm); the columns "
                     f"must be {', '.join(classes)}, whose peaks lie at {', '.join(f'{v:g}' for v in lambda_max)} nm",
                 )
-    return values / values.sum(axis=0)
+    return unit_area(values, wl)
 
 
-def overall_sensitivity(wavelengths, receptors, peaks_nm, ratio):
-    """The light-adapted overall spectral sensitivity S(λ), its largest value one.
+def overall_weights(wavelengths, receptors, peaks_nm, ratio):
+    """The weights (k,), summing to one, of the receptor curves (n, k) in the overall sensitivity.
 
-    The weighted sum of the receptor curves (n, k) whose values at the
-    ``peaks_nm`` (k,) stand as ``ratio`` (for the honey bee 345, 440 and
-    550 nm and 16 : 2.7 : 1, von Helversen 1972).
+    Those whose weighted sum's values at the ``peaks_nm`` (k,) stand as
+    ``ratio`` (for the honey bee 345, 440 and 550 nm and 16 : 2.7 : 1, von
+    Helversen 1972). With curves of area 1 nm (:func:`unit_area`) the sum
+    has area 1 nm too, so its catch, the brightness, is the same weighted
+    sum of the receptors' catches.
     """
     wl = np.asarray(wavelengths, float)
     at_peaks = np.column_stack([np.interp(peaks_nm, wl, receptors[:, k]) for k in range(receptors.shape[1])])
     weights = np.linalg.solve(at_peaks, np.asarray(ratio, float))
-    s = receptors @ weights
+    return weights / weights.sum()
+
+
+def overall_sensitivity(wavelengths, receptors, peaks_nm, ratio):
+    """The light-adapted overall spectral sensitivity S(λ), its largest value one: the receptor curves (n, k)
+    weighted by :func:`overall_weights`."""
+    s = receptors @ overall_weights(wavelengths, receptors, peaks_nm, ratio)
     return s / s.max()

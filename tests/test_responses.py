@@ -1,0 +1,71 @@
+"""responses.csv's colour columns follow from its own catch columns, as the README states."""
+
+import numpy as np
+import pytest
+
+from beeoptics.io.receptortable import COLUMNS
+from beeoptics.io.table import read_table, write_table
+from beeoptics.pipeline.trace import gather_responses
+from beeoptics.spectra import grid
+from beeoptics.vision.receptorset import brightness_weights, curves, load_receptor_set
+from conftest import DATA
+
+SPECTRAL = {"start_nm": 300, "end_nm": 700, "step_nm": 10}
+FLOWER = DATA / "scenes" / "flower" / "scene.yaml"
+
+
+def _responses(tmp_path, receptor_set, background):
+    """Gather a table of 300 receptors of acceptance angles 1.5–4° seeing random spectra, some none."""
+    rng = np.random.default_rng(37)
+    n, wl = 300, grid(**SPECTRAL)
+    axes = rng.normal(size=(n, 3))
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    table = dict(zip(COLUMNS, (np.arange(n), np.where(np.arange(n) % 2, "left", "right"), *rng.normal(size=(3, n)),
+                               *axes.T, np.full(n, 20.0), np.full(n, 2.0), rng.uniform(1.5, 4.0, n))))
+    write_table(tmp_path / "receptors.csv", table)
+    # Each receptor a random mix of three smooth spectra, W m⁻² sr⁻¹ nm⁻¹; one in ten sees nothing.
+    basis = np.stack([np.exp(-0.5 * ((wl - m) / 60.0) ** 2) for m in (350.0, 480.0, 600.0)])
+    radiance = rng.uniform(0.0, 0.05, (n, 3)) @ basis * (rng.random(n) > 0.1)[:, None]
+    np.savez(tmp_path / "part.npz", id=np.arange(n), radiance=radiance)
+    out = {"responses": tmp_path / "responses.csv", "irradiance": tmp_path / "irradiance.npz"}
+    gather_responses(tmp_path / "receptors.csv", FLOWER, [tmp_path / "part.npz"], out, spectral=SPECTRAL,
+                     receptor_set=receptor_set, background=background)
+    return read_table(out["responses"]), np.load(out["irradiance"]), wl
+
+
+@pytest.mark.parametrize("species, background", [("apis_mellifera", "scene"), ("apis_mellifera", "leaf"),
+                                                 ("drosophila_melanogaster", "scene")])
+def test_the_colour_columns_follow_from_the_tables_own_catches(tmp_path, species, background):
+    rs = load_receptor_set(species)
+    table, arrays, wl = _responses(tmp_path, rs, background)
+    q = np.column_stack([table[c] for c in rs.classes]).astype(float)
+    # Each receptor's catch over its acceptance solid angle, adapted to the scene's mean of it over the
+    # receptors that have the class, or to a material's (the irradiance file's background_q).
+    radiance_q = q / table["acceptance_sr"][:, None]
+    reference = np.nanmean(radiance_q, axis=0) if background == "scene" else arrays["background_q"]
+    lit = (q > 0).any(axis=1)
+    adapted = np.where(lit[:, None], radiance_q / reference, np.nan)
+    e = adapted / (adapted + 1)
+    expect = {"lit": lit.astype(int), **{f"q_{c}": adapted[:, k] for k, c in enumerate(rs.classes)},
+              **{f"E_{c}": e[:, k] for k, c in enumerate(rs.classes)}}
+    if rs.overall is not None:
+        expect["brightness"] = q @ brightness_weights(rs, wl, curves(rs, wl))
+    if rs.spaces:
+        # pavo's formulas (R/hexagon.R, R/coc.R, R/trispace.R), written out.
+        uv, b, g = e[:, rs.chromatic].T
+        x, y = np.sqrt(3) / 2 * (g - uv), b - (uv + g) / 2
+        rel = adapted[:, rs.chromatic] / adapted[:, rs.chromatic].sum(1, keepdims=True)
+        expect.update(hex_x=x, hex_y=y, hex_hue_deg=(90 - np.degrees(np.arctan2(y, x))) % 360, hex_r=np.hypot(x, y),
+                      coc_A=-9.86 * uv + 7.70 * b + 2.16 * g, coc_B=-5.17 * uv + 20.25 * b - 15.08 * g,
+                      tri_x=(rel[:, 2] - rel[:, 1]) / np.sqrt(2),
+                      tri_y=np.sqrt(2 / 3) * (rel[:, 0] - (rel[:, 1] + rel[:, 2]) / 2))
+    if rs.weber is not None:
+        # Vorobyev & Osorio (1998), eq. for trichromats, against the background (log q = 0).
+        (e1, e2, e3), (f1, f2, f3) = rs.weber, np.log(adapted[:, rs.chromatic]).T
+        expect["rnl_dS"] = np.sqrt((e1**2 * (f3 - f2) ** 2 + e2**2 * (f3 - f1) ** 2 + e3**2 * (f1 - f2) ** 2)
+                                   / ((e1 * e2) ** 2 + (e1 * e3) ** 2 + (e2 * e3) ** 2))
+    assert set(expect) | {"id", "side", "acceptance_sr", "ommatidium", *rs.classes} >= set(table)
+    assert not lit.all() and np.ptp(table["acceptance_sr"]) > 0
+    for name, values in expect.items():
+        # The table's nine significant digits.
+        np.testing.assert_allclose(np.asarray(table[name], float), values, rtol=1e-7, atol=1e-7, err_msg=name)
