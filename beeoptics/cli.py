@@ -50,7 +50,8 @@ SETTINGS = {
          "wavelength of the snyder model's diffraction term, nm"),
     ],
     "render": [
-        ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone"),
+        ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone, at most "
+         "65,536 (where the noise is well below the measured reflectances' spread; see the config schema)"),
         ("--depth", "trace.depth", int, "scattering events per path; 1 is direct light only"),
         ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),
         ("--batch-rays", "trace.batch_rays", int, "rays one thread traces at once; bounds memory (about 600 "
@@ -667,7 +668,9 @@ def main(argv=None):
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except OSError as e:  # an unwritable output folder, a full disk
-        print(f"beeoptics: error: {e}", file=sys.stderr)
+        # The file and the cause, without Python's "[Errno N]".
+        where = f"{e.filename}: " if e.filename else ""
+        print(f"beeoptics: error: {where}{e.strerror or e}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("beeoptics: interrupted", file=sys.stderr)

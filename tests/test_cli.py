@@ -412,4 +412,5 @@ def test_an_output_folder_that_cannot_be_written_is_named(built, tmp_path, capsy
     code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, blocker / "out"))
     assert code == 2 and err.strip() == f"beeoptics: error: {blocker / 'out'}: cannot write there (Not a directory)"
     code, _, err = call(capsys, "convert", built / "receptors.csv", blocker / "eye.eye")
-    assert code == 1 and err.strip() == f"beeoptics: error: [Errno 17] {blocker}: cannot write there (File exists)"
+    # The cause in words, without Python's "[Errno 17]".
+    assert code == 1 and err.strip() == f"beeoptics: error: {blocker}: cannot write there (a file, not a folder)"

@@ -234,7 +234,7 @@ def read_directions(path, halves=None, frame="head", radius_mm=None, centre_mm=N
     path = Path(path)
     _, rotation, _ = _conventions("mm", frame, "fwhm")
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        lines = path.read_text(encoding="utf-8-sig").splitlines()
     except FileNotFoundError:
         raise InputError(path, "", "no such file") from None
     except UnicodeDecodeError:
@@ -449,7 +449,7 @@ def _conventions(units, frame, angle_convention):
 def _parse_eye(path):
     """The numbers of an eye file (n, 8) and the line number of each row."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except FileNotFoundError:
         raise InputError(path, "", "no such file") from None
     except UnicodeDecodeError:
