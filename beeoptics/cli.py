@@ -70,6 +70,8 @@ SETTINGS = {
 }
 FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud",
            ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
+#: The formats in words, for the help: ".csv, .eye, .ply, .gltf or .glb".
+FORMAT_LIST = f"{', '.join(list(FORMATS)[:-1])} or {list(FORMATS)[-1]}"
 
 
 @cache
@@ -166,11 +168,13 @@ def build_eye(args):
 
             def progress(iteration, largest_mm):
                 # The iterations needed are not known in advance; the largest move falls, roughly
-                # geometrically, from the first towards the tolerance: show how far it has come.
+                # geometrically, from the first towards the tolerance: show how far it has come. It rises
+                # again now and then (when the springs are first measured along the surface, and in the
+                # dynamics' own overshoots); the bar holds its furthest point rather than go back.
                 first[:] = first or [largest_mm]
                 bar.set_postfix_str(f"iteration {iteration + 1}, largest move {largest_mm * 1e3:.3g} µm "
                                     f"(stops below {eye['tolerance_um']:g})", refresh=False)
-                bar.update(settled(first[0], largest_mm, eye["tolerance_um"] * 1e-3) - bar.n)
+                bar.update(max(settled(first[0], largest_mm, eye["tolerance_um"] * 1e-3) - bar.n, 0))
             build_facets(args.eye, tmp / "remeshed.ply", {k: tmp / name for k, name in FACET_OUTPUTS.items()},
                          tolerance_um=eye["tolerance_um"], acceptance=AcceptanceModel.from_config(eye["delta_rho"]),
                          progress=progress, as_given=args.as_given)
@@ -395,7 +399,7 @@ def _stats(values):
 
 
 def info(args):
-    """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye or .ply)."""
+    """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye, .ply, .gltf or .glb)."""
     import igl
 
     from beeoptics.eye.description import load_eye, load_eye_mesh
@@ -621,11 +625,11 @@ def parser():
     p.add_argument("--flowers", metavar="CSV", type=Path, help="also write the table of its flowers: species, "
                    "the sphere about each (x_m, y_m, z_m, radius_m) and the way it faces (facing_x, _y, _z)")
     p.set_defaults(run=meadow)
-    p = sub.add_parser("convert", parents=[eyefile], help="convert receptors between .csv, .eye and .ply",
+    p = sub.add_parser("convert", parents=[eyefile], help=f"convert receptors from one format to another: {FORMAT_LIST}",
                        description=convert.__doc__)
     p.add_argument("input", metavar="IN", help="receptors.csv, a CompoundRay .eye, a receptor .ply or an OCES "
                    ".gltf or .glb")
-    p.add_argument("output", metavar="OUT", help="the file to write: .csv, .eye, .ply, .gltf or .glb")
+    p.add_argument("output", metavar="OUT", help=f"the file to write: {FORMAT_LIST}")
     p.add_argument("--only", choices=SIDES, help="write only this eye's receptors (default: every receptor)")
     g = p.add_argument_group("tables of directions (see beeoptics.io.interchange)")
     g.add_argument("--directions", action="store_true", help="IN is a table of bare unit directions, x,y,z a line "
@@ -643,9 +647,9 @@ def parser():
     p.add_argument("--quality", choices=[*MEASURES, "none"], default="delta_phi_deg",
                    help="writing a .ply: the column MeshLab shows as vertex quality (default: %(default)s)")
     p.set_defaults(run=convert)
-    p = sub.add_parser("info", parents=[eyefile], help="describe an eye, a scene or receptors",
+    p = sub.add_parser("info", parents=[eyefile], help=f"describe an eye, a scene or receptors ({FORMAT_LIST})",
                        description=info.__doc__)
-    p.add_argument("path", metavar="PATH", help="eye.yaml, scene.yaml, receptors.csv, a .eye or a .ply")
+    p.add_argument("path", metavar="PATH", help=f"eye.yaml, scene.yaml, or receptors: {FORMAT_LIST}")
     p.set_defaults(run=info)
     p = sub.add_parser("compile-kernels", help="compile the tracer's and the relaxation's kernels into numba's "
                        "cache (make does it at set-up)", description=compile_kernels.__doc__)

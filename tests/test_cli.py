@@ -1,5 +1,6 @@
 """The command-line tool: every subcommand on the tiny eye and test scenes, its help, and bad input."""
 
+import re
 import shutil
 import signal
 import subprocess
@@ -74,6 +75,17 @@ def test_help_of_every_subcommand_explains_every_option(capsys):
             for part in key.split("."):
                 node = node["properties"][part]
             assert f"{option} " in text and f"(default: {node['default']})" in text, option
+
+
+def test_the_help_names_every_format_convert_and_info_read(capsys):
+    """In the list of subcommands and in info's own help, .gltf and .glb among them."""
+    _, top, _ = call(capsys, "--help")
+    _, info, _ = call(capsys, "info", "--help")
+    for name in ("convert", "info"):
+        # Its entry, continuation lines (indented further) included.
+        line = " ".join(re.search(rf"^    {name} (.*?)\n {{0,4}}\S", top, re.S | re.M).group(1).split())
+        assert all(suffix in line for suffix in cli.FORMATS), (name, line)
+    assert all(" ".join(info.split()).count(suffix) >= 2 for suffix in cli.FORMATS), info
 
 
 def test_build_eye_writes_the_receptor_table(built):
@@ -404,6 +416,30 @@ def test_relaxation_progress_runs_from_the_first_move_to_the_tolerance():
     assert cli.settled(1.0, 0.1, 0.01) == 50
     assert cli.settled(1.0, 0.0101, 0.01) == 99
     assert cli.settled(1.0, 0.005, 0.01) == 100
+
+
+def test_the_relaxations_progress_never_goes_back(monkeypatch, tmp_path, capsys):
+    """The largest move rises again where the springs turn geodesic: the bar holds its furthest point."""
+    import beeoptics.pipeline.eyes as stages
+
+    shown = []
+
+    class Bar(cli.tqdm):
+        def update(self, n=1):
+            assert n >= 0, "the bar went back"
+            super().update(n)
+            shown.append(self.n)
+
+    def build_facets(*args, progress, **kwargs):
+        for iteration, largest_mm in enumerate((6e-3, 1e-3, 2e-4, 3e-3, 5e-4, 4e-5)):
+            progress(iteration, largest_mm)
+        raise InputError("eye.yaml", "facets", "stopped here by the test")
+
+    monkeypatch.setattr(cli, "tqdm", Bar)
+    monkeypatch.setattr(stages, "remesh_eye", lambda *args, **kwargs: None)
+    monkeypatch.setattr(stages, "build_facets", build_facets)
+    code, _, _ = call(capsys, "build-eye", EYE, "-o", tmp_path / "out")
+    assert code == 2 and shown == sorted(shown) and shown[-1] == 100, shown
 
 
 def test_an_output_folder_that_cannot_be_written_is_named(built, tmp_path, capsys):
