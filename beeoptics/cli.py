@@ -266,8 +266,8 @@ def read_receptor_file(path, args):
         if args.sphere_mm is None or args.centre_mm is None or args.delta_rho_per_delta_phi is None:
             raise InputError(path, "", "a table of directions needs --sphere-mm, --centre-mm and "
                              "--delta-rho-per-delta-phi to place its receptors and set their Δρ")
-        table = interchange.read_directions(path, halves=args.halves, frame=args.frame, radius_mm=args.sphere_mm,
-                                            centre_mm=args.centre_mm)
+        table = interchange.read_directions(path, halves=args.halves, frame=args.frame or "camera",
+                                            radius_mm=args.sphere_mm, centre_mm=args.centre_mm)
         table = measure_spacing(table, path, facet_diameter_um=True)
         return checked(table._replace(delta_rho_deg=args.delta_rho_per_delta_phi * table.delta_phi_deg), path)
     kind = _format(path)
@@ -369,7 +369,7 @@ def convert(args):
             focal = args.focal_offset_mm
             if focal is None:
                 focal = 0.0 if table.focal_offset_mm is None else table.focal_offset_mm
-            interchange.write_compoundray_eye(args.output, table, units=args.units, frame=args.frame,
+            interchange.write_compoundray_eye(args.output, table, units=args.units, frame=args.frame or "camera",
                                               angle_convention=args.acceptance, focal_offset_mm=focal)
     except InputError:
         raise
@@ -550,11 +550,13 @@ def parser():
     g.add_argument("--units", type=_positive_or("m", "mm"), default="mm",
                    help="lengths in the .eye file: mm (CompoundRay's eye specification), m, or file units per mm "
                         "(default: %(default)s)")
-    g.add_argument("--frame", type=_frame, default="camera",
+    g.add_argument("--frame", type=_frame,
                    help="camera: x right, y up, z forward of a camera looking where the bee faces (the head "
                         "frame's -y, z, x); head: head-frame coordinates unchanged; or x=…,y=…,z=… naming the "
                         "head direction (anterior, posterior, left, right, dorsal, ventral) of each of the file's "
-                        "axes, as micro-CT eyes need (default: %(default)s)")
+                        "axes, as micro-CT eyes need (Taylor et al.'s: x=left,y=ventral,z=posterior) (default: "
+                        "camera when writing; when reading, camera unless the eyes would then look backwards, "
+                        "which is refused)")
     g.add_argument("--acceptance", choices=["fwhm", "variance"], default="fwhm",
                    help="the file's acceptance angle, radians, is Δρ (fwhm, CompoundRay's definition) or √2·Δρ "
                         "(variance: the same angular blur as the receptor's) (default: %(default)s)")
