@@ -188,7 +188,10 @@ def render(args):
     """Trace an eye's receptors through a scene, gather their responses and draw the retinal images.
 
     Receptors without an eye file (imported from a CompoundRay eye, say) get
-    no retinal images, which need the eye's placement on the head.
+    no retinal images, which need the eye's placement on the head. Receptors
+    in another format than a receptor table (a CompoundRay .eye, a .ply, an
+    OCES glTF) are read as convert reads them, and the table their ids refer
+    to is written beside the responses (receptors.csv).
     """
     from beeoptics.eye.description import load_eye
     from beeoptics.light.batching import TraceSettings
@@ -205,6 +208,7 @@ def render(args):
                     load_receptor_set(args.receptors_set or DEFAULT_SET, source="command line",
                                       field="--receptor-set"))
     check_background(args.scene, background, args.scene, "materials")
+    table = None if _format(args.receptors) == ".csv" else read_receptor_file(args.receptors, args)
     retinal = retinal_images(receptor_set) if args.eye is not None else {}
     spaces = colour_figures(receptor_set) if args.figures else {}
     figures = {**FIELD_MAPS, **spaces, **VIEWER} if args.figures else {}
@@ -212,29 +216,34 @@ def render(args):
     who = Path(args.eye).resolve().parent.name if args.eye else Path(args.receptors).stem
     title = f"{who} in {Path(args.scene).resolve().parent.name}"
     names = ["responses.csv", "irradiance.npz", *retinal.values(), *figures.values()]
+    names += ["receptors.csv"] * (table is not None)
     with staged(args.output, names) as tmp:
+        receptors = args.receptors
+        if table is not None:
+            receptors = tmp / "receptors.csv"
+            write_receptors(receptors, table)
         with _bar(args, "tracing", " receptors") as bar:
             def progress(done, total):
                 bar.total = total
                 bar.update(done - bar.n)
-            trace_part(args.receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
+            trace_part(receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
                        settings=TraceSettings.from_config(config["trace"], args.threads), progress=progress)
         curves = config["colour"]["sensitivities"]
-        gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"],
+        gather_responses(receptors, args.scene, [tmp / "radiance.npz"],
                          {"responses": tmp / "responses.csv", "irradiance": tmp / "irradiance.npz"},
                          spectral=spectral, receptor_set=receptor_set, background=background, receptor_curves=curves)
         if args.eye is not None:
-            images.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+            images.retinal_images(args.eye, receptors, tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in retinal.items()}, receptor_set=receptor_set,
                                   width_px=config["images"]["width_px"], title=title)
         if args.figures:
-            images.visual_field_maps(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz", None,
+            images.visual_field_maps(receptors, tmp / "responses.csv", tmp / "irradiance.npz", None,
                                      {key: tmp / name for key, name in FIELD_MAPS.items()}, receptor_set=receptor_set,
                                      width_px=config["images"]["visual_field_width_px"])
             images.colour_figures(tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in spaces.items()}, receptor_set=receptor_set,
                                   title=title, receptor_curves=curves)
-            images.viewer(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+            images.viewer(receptors, tmp / "responses.csv", tmp / "irradiance.npz",
                           {key: tmp / name for key, name in VIEWER.items()}, receptor_set=receptor_set, title=title,
                           receptor_curves=curves)
     print(f"{args.output}: wrote {', '.join(names)}")
@@ -580,9 +589,10 @@ def parser():
                    "(beeoptics.eye.given)")
     p.add_argument("--quiet", **quiet)
     p.set_defaults(run=build_eye)
-    p = sub.add_parser("render", help="trace an eye in a scene: responses and retinal images",
+    p = sub.add_parser("render", parents=[eyefile], help="trace an eye in a scene: responses and retinal images",
                        description=render.__doc__)
-    p.add_argument("receptors", metavar="RECEPTORS_CSV", help="receptor table, as build-eye writes it")
+    p.add_argument("receptors", metavar="RECEPTORS", help="receptor table, as build-eye writes it, or receptors in "
+                   f"another format convert reads ({FORMAT_LIST})")
     p.add_argument("scene", metavar="SCENE_YAML", help="scene description, e.g. scenes/meadow/scene.yaml")
     p.add_argument("--eye", metavar="EYE_YAML", help="the receptors' eye, for the retinal-plane images "
                    "(without it, only responses.csv and irradiance.npz are written) and its receptor set")

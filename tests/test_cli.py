@@ -418,6 +418,18 @@ def test_relaxation_progress_runs_from_the_first_move_to_the_tolerance():
     assert cli.settled(1.0, 0.005, 0.01) == 100
 
 
+def test_render_reads_a_compoundray_eye_as_convert_does(built, tmp_path, capsys):
+    eye = tmp_path / "tiny.eye"
+    assert call(capsys, "convert", built / "receptors.csv", eye)[0] == 0
+    out = tmp_path / "out"
+    code, _, err = call(capsys, "render", eye, FLOWER, "-o", out, *FAST)
+    assert code == 0, err
+    # The table the responses' ids refer to, beside them: the .eye's receptors.
+    table, responses = read_receptors(out / "receptors.csv"), read_table(out / "responses.csv", text=["side"])
+    np.testing.assert_allclose(table.position, read_receptors(built / "receptors.csv").position, atol=1e-8)
+    np.testing.assert_array_equal(responses["id"], table.id)
+
+
 def test_the_relaxations_progress_never_goes_back(monkeypatch, tmp_path, capsys):
     """The largest move rises again where the springs turn geodesic: the bar holds its furthest point."""
     import beeoptics.pipeline.eyes as stages
