@@ -140,6 +140,14 @@ def _running(pid):
     return True
 
 
+def _meadow_made(scene_file):
+    """Generate the scene's meadow first if it places one not yet generated (a fresh clone's), saying so."""
+    from beeoptics.pipeline.world import missing_meadow
+
+    missing_meadow(scene_file, starting=lambda mesh: print(f"beeoptics: generating {mesh} from the meadow file "
+                                                           "beside it, once", file=sys.stderr))
+
+
 def _bar(args, desc, unit, total=None):
     # The delay keeps quick runs, and input refused before the work starts, free of bars.
     return tqdm(desc=desc, unit=unit, total=total, delay=0.5, disable=args.quiet, file=sys.stderr,
@@ -208,6 +216,7 @@ def render(args):
                     load_receptor_set(args.receptors_set or DEFAULT_SET, source="command line",
                                       field="--receptor-set"))
     check_background(args.scene, background, args.scene, "materials")
+    _meadow_made(args.scene)
     table = None if _format(args.receptors) == ".csv" else read_receptor_file(args.receptors, args)
     retinal = retinal_images(receptor_set) if args.eye is not None else {}
     spaces = colour_figures(receptor_set) if args.figures else {}
@@ -310,6 +319,7 @@ def daylight(args):
 
     wl = grid(**settings(args)["spectral"])
     if args.scene:
+        _meadow_made(args.scene)
         scene = load_scene(args.scene, wl)
         direct = horizontal_irradiance(None, scene.sun, len(wl))
         diffuse = horizontal_irradiance(scene.sky, None, len(wl))
@@ -464,6 +474,7 @@ def info(args):
                 if key not in ("source", "delta_rho_anchors"):
                     print(f"{section} {key.replace('_', ' ')}: {_readable(value) or 'compared'}")
         return
+    _meadow_made(path)
     scene = load_scene(path, grid(**schema_defaults()["spectral"]))
     data = validate(data, "scene", path)
     light, head, cam = data["light"], data["eye"], scene.camera

@@ -515,6 +515,14 @@ def test_numbers_given_as_text_on_the_command_line_are_read_as_numbers(tmp_path)
     assert_names(e, tmp_path / "config.yaml", "trace.parts")
 
 
+def test_numbers_in_a_list_given_as_text_on_the_command_line_are_read_as_numbers(tmp_path):
+    # --config sweeps='{s: {eyes: [tiny], scenes: [open], delta_rho_deg: [1.5, 4]}}', as Snakemake 9 reads it.
+    cfg = default_config()
+    cfg["sweeps"] = {"s": {"eyes": ["tiny"], "scenes": ["open"], "delta_rho_deg": ["1.5", "4"]}}
+    validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml", overrides={"sweeps": cfg["sweeps"]})
+    assert cfg["sweeps"]["s"]["delta_rho_deg"] == [1.5, 4]
+
+
 def dry_run_refuses(tmp_path, cfg):
     """What a dry run of the workflow with this config prints; it must fail."""
     (tmp_path / "config.yaml").write_text(yaml.safe_dump(cfg))

@@ -418,6 +418,19 @@ def test_relaxation_progress_runs_from_the_first_move_to_the_tolerance():
     assert cli.settled(1.0, 0.005, 0.01) == 100
 
 
+def test_a_generated_meadow_not_yet_generated_is_made_on_demand_as_the_meadow_command_makes_it(tmp_path, capsys):
+    """As in a fresh clone, whose scenes/meadow has its meadow.yaml but not the mesh the workflow generates."""
+    scene = tmp_path / "generated"
+    shutil.copytree(DATA / "scenes" / "generated", scene)
+    code, out, err = call(capsys, "info", scene / "scene.yaml")
+    assert code == 0 and "object meadow:" in out and "generating" in err, err
+    code, _, _ = call(capsys, "meadow", scene / "meadow.yaml", "-o", tmp_path / "meadow.ply", "--flowers",
+                      tmp_path / "flowers.csv")
+    assert code == 0
+    assert (scene / "meadow.ply").read_bytes() == (tmp_path / "meadow.ply").read_bytes()
+    assert (scene / "meadow_flowers.csv").read_bytes() == (tmp_path / "flowers.csv").read_bytes()
+
+
 def test_render_reads_a_compoundray_eye_as_convert_does(built, tmp_path, capsys):
     eye = tmp_path / "tiny.eye"
     assert call(capsys, "convert", built / "receptors.csv", eye)[0] == 0

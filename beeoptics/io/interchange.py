@@ -56,7 +56,7 @@ file's axes (:func:`beeoptics.headframe.frame_axes`), as micro-CT eyes need:
 Taylor et al.'s (2019) are in the frame their scans were registered in
 (x left, y ventral, z posterior), the camera frame turned through the head's
 centre, so that read in the camera frame their eyes look backwards (the
-mean axis 0.5–0.6 posterior, where the shipped eyes' is 0.5 anterior). A
+mean axis 0.48–0.65 posterior, where the shipped eyes' is 0.5 anterior). A
 file read without a frame named is read in the camera frame and refused
 if its eyes then look backwards (:data:`BACKWARDS`), since no insect's do:
 its frame must be named (``frame="camera"`` reads it so regardless).
@@ -140,7 +140,7 @@ EYE_FORMAT = "%.9g"
 
 #: The anterior component of an eye's mean axis below which it looks backwards, in a file read without its
 #: frame named: halfway between an eye that looks straight out sideways (0) and a micro-CT eye read in the
-#: wrong frame (Taylor et al.'s eight files: −0.50 to −0.64).
+#: wrong frame (Taylor et al.'s eight files: −0.48 to −0.65).
 BACKWARDS = -0.25
 
 
