@@ -216,8 +216,8 @@ def render(args):
                     load_receptor_set(args.receptors_set or DEFAULT_SET, source="command line",
                                       field="--receptor-set"))
     check_background(args.scene, background, args.scene, "materials")
-    _meadow_made(args.scene)
     table = None if _format(args.receptors) == ".csv" else read_receptor_file(args.receptors, args)
+    _meadow_made(args.scene)
     retinal = retinal_images(receptor_set) if args.eye is not None else {}
     spaces = colour_figures(receptor_set) if args.figures else {}
     figures = {**FIELD_MAPS, **spaces, **VIEWER} if args.figures else {}
