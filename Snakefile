@@ -8,6 +8,7 @@ from snakemake.utils import min_version
 
 from beeoptics.io.errors import InputError
 from beeoptics.io.validation import CONFIG_SCHEMA, load_yaml, validate_config
+from beeoptics.world.flight import read_flight
 
 min_version("9.0")
 
@@ -26,11 +27,15 @@ configfile: "config/config.yaml"
 report: "workflow/report/workflow.rst"
 
 
-# Checked once, defaults filled in; a wrong key or value, or an eye class or scene
-# without its folder, stops the run at once with one line naming it.
+# Checked once, defaults filled in; a wrong key or value, an eye class or scene
+# without its folder, or a bad line in a flight's CSV (which the flight rules' input
+# functions read, where Snakemake would bury it in a traceback) stops the run at once
+# with one line naming it.
 try:
     validate_config(config, CONFIG_SCHEMA, source=", ".join(map(str, workflow.configfiles)) or "config",
                     overrides=workflow.config_settings.config)
+    for flight in config["flights"].values():
+        read_flight(Path(config["scenes_dir"]) / flight["scene"] / flight["path"])
 except InputError as e:
     sys.exit(f"beeoptics: error: {e}")
 

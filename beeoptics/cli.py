@@ -51,7 +51,8 @@ SETTINGS = {
          "wavelength of the snyder model's diffraction term, nm"),
     ],
     "render": [
-        ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone"),
+        ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone, at most "
+         "65,536 (where the noise is well below the measured reflectances' spread; see the config schema)"),
         ("--depth", "trace.depth", int, "scattering events per path; 1 is direct light only"),
         ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),
         ("--batch-rays", "trace.batch_rays", int, "rays one thread traces at once; bounds memory (about 600 "
@@ -71,6 +72,8 @@ SETTINGS = {
 }
 FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud",
            ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
+#: The formats in words, for the help: ".csv, .eye, .ply, .gltf or .glb".
+FORMAT_LIST = f"{', '.join(list(FORMATS)[:-1])} or {list(FORMATS)[-1]}"
 
 
 def settings(args):
@@ -133,6 +136,14 @@ def _running(pid):
     return True
 
 
+def _meadow_made(scene_file):
+    """Generate the scene's meadow first if it places one not yet generated (a fresh clone's), saying so."""
+    from beeoptics.pipeline.world import missing_meadow
+
+    missing_meadow(scene_file, starting=lambda mesh: print(f"beeoptics: generating {mesh} from the meadow file "
+                                                           "beside it, once", file=sys.stderr))
+
+
 def _bar(args, desc, unit, total=None):
     # The delay keeps quick runs, and input refused before the work starts, free of bars.
     return tqdm(desc=desc, unit=unit, total=total, delay=0.5, disable=args.quiet, file=sys.stderr,
@@ -161,11 +172,13 @@ def build_eye(args):
 
             def progress(iteration, largest_mm):
                 # The iterations needed are not known in advance; the largest move falls, roughly
-                # geometrically, from the first towards the tolerance: show how far it has come.
+                # geometrically, from the first towards the tolerance: show how far it has come. It rises
+                # again now and then (when the springs are first measured along the surface, and in the
+                # dynamics' own overshoots); the bar holds its furthest point rather than go back.
                 first[:] = first or [largest_mm]
                 bar.set_postfix_str(f"iteration {iteration + 1}, largest move {largest_mm * 1e3:.3g} µm "
                                     f"(stops below {eye['tolerance_um']:g})", refresh=False)
-                bar.update(settled(first[0], largest_mm, eye["tolerance_um"] * 1e-3) - bar.n)
+                bar.update(max(settled(first[0], largest_mm, eye["tolerance_um"] * 1e-3) - bar.n, 0))
             build_facets(args.eye, tmp / "remeshed.ply", {k: tmp / name for k, name in FACET_OUTPUTS.items()},
                          tolerance_um=eye["tolerance_um"], acceptance=AcceptanceModel.from_config(eye["delta_rho"]),
                          progress=progress, as_given=args.as_given)
@@ -179,7 +192,10 @@ def render(args):
     """Trace an eye's receptors through a scene, gather their responses and draw the retinal images.
 
     Receptors without an eye file (imported from a CompoundRay eye, say) get
-    no retinal images, which need the eye's placement on the head.
+    no retinal images, which need the eye's placement on the head. Receptors
+    in another format than a receptor table (a CompoundRay .eye, a .ply, an
+    OCES glTF) are read as convert reads them, and the table their ids refer
+    to is written beside the responses (receptors.csv).
     """
     from beeoptics.eye.description import check_receptors_of, load_eye
     from beeoptics.light.batching import TraceSettings
@@ -196,6 +212,8 @@ def render(args):
                     load_receptor_set(args.receptors_set or DEFAULT_SET, source="command line",
                                       field="--receptor-set"))
     check_background(args.scene, background, args.scene, "materials")
+    table = None if _format(args.receptors) == ".csv" else read_receptor_file(args.receptors, args)
+    _meadow_made(args.scene)
     retinal = retinal_images(receptor_set) if args.eye is not None else {}
     spaces = colour_figures(receptor_set) if args.figures else {}
     figures = {**FIELD_MAPS, **spaces, **VIEWER} if args.figures else {}
@@ -203,29 +221,34 @@ def render(args):
     who = Path(args.eye).resolve().parent.name if args.eye else Path(args.receptors).stem
     title = f"{who} in {Path(args.scene).resolve().parent.name}"
     names = ["responses.csv", "irradiance.npz", *retinal.values(), *figures.values()]
+    names += ["receptors.csv"] * (table is not None)
     with staged(args.output, names) as tmp:
+        receptors = args.receptors
+        if table is not None:
+            receptors = tmp / "receptors.csv"
+            write_receptors(receptors, table)
         with _bar(args, "tracing", " receptors") as bar:
             def progress(done, total):
                 bar.total = total
                 bar.update(done - bar.n)
-            trace_part(args.receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
+            trace_part(receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
                        settings=TraceSettings.from_config(config["trace"], args.threads), progress=progress)
         curves = config["colour"]["sensitivities"]
-        gather_responses(args.receptors, args.scene, [tmp / "radiance.npz"],
+        gather_responses(receptors, args.scene, [tmp / "radiance.npz"],
                          {"responses": tmp / "responses.csv", "irradiance": tmp / "irradiance.npz"},
                          spectral=spectral, receptor_set=receptor_set, background=background, receptor_curves=curves)
         if args.eye is not None:
-            images.retinal_images(args.eye, args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+            images.retinal_images(args.eye, receptors, tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in retinal.items()}, receptor_set=receptor_set,
                                   width_px=config["images"]["width_px"], title=title)
         if args.figures:
-            images.visual_field_maps(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz", None,
+            images.visual_field_maps(receptors, tmp / "responses.csv", tmp / "irradiance.npz", None,
                                      {key: tmp / name for key, name in FIELD_MAPS.items()}, receptor_set=receptor_set,
                                      width_px=config["images"]["visual_field_width_px"])
             images.colour_figures(tmp / "responses.csv", tmp / "irradiance.npz",
                                   {key: tmp / name for key, name in spaces.items()}, receptor_set=receptor_set,
                                   title=title, receptor_curves=curves)
-            images.viewer(args.receptors, tmp / "responses.csv", tmp / "irradiance.npz",
+            images.viewer(receptors, tmp / "responses.csv", tmp / "irradiance.npz",
                           {key: tmp / name for key, name in VIEWER.items()}, receptor_set=receptor_set, title=title,
                           receptor_curves=curves)
     print(f"{args.output}: wrote {', '.join(names)}")
@@ -257,8 +280,8 @@ def read_receptor_file(path, args):
         if args.sphere_mm is None or args.centre_mm is None or args.delta_rho_per_delta_phi is None:
             raise InputError(path, "", "a table of directions needs --sphere-mm, --centre-mm and "
                              "--delta-rho-per-delta-phi to place its receptors and set their Δρ")
-        table = interchange.read_directions(path, halves=args.halves, frame=args.frame, radius_mm=args.sphere_mm,
-                                            centre_mm=args.centre_mm)
+        table = interchange.read_directions(path, halves=args.halves, frame=args.frame or "camera",
+                                            radius_mm=args.sphere_mm, centre_mm=args.centre_mm)
         table = measure_spacing(table, path, facet_diameter_um=True)
         return checked(table._replace(delta_rho_deg=args.delta_rho_per_delta_phi * table.delta_phi_deg), path)
     kind = _format(path)
@@ -292,6 +315,7 @@ def daylight(args):
 
     wl = grid(**settings(args)["spectral"])
     if args.scene:
+        _meadow_made(args.scene)
         scene = load_scene(args.scene, wl)
         direct = horizontal_irradiance(None, scene.sun, len(wl))
         diffuse = horizontal_irradiance(scene.sky, None, len(wl))
@@ -360,7 +384,7 @@ def convert(args):
             focal = args.focal_offset_mm
             if focal is None:
                 focal = 0.0 if table.focal_offset_mm is None else table.focal_offset_mm
-            interchange.write_compoundray_eye(args.output, table, units=args.units, frame=args.frame,
+            interchange.write_compoundray_eye(args.output, table, units=args.units, frame=args.frame or "camera",
                                               angle_convention=args.acceptance, focal_offset_mm=focal)
     except InputError:
         raise
@@ -390,7 +414,7 @@ def _stats(values):
 
 
 def info(args):
-    """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye or .ply)."""
+    """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye, .ply, .gltf or .glb)."""
     import igl
 
     from beeoptics.eye.description import load_eye, load_eye_mesh
@@ -446,6 +470,7 @@ def info(args):
                 if key not in ("source", "delta_rho_anchors"):
                     print(f"{section} {key.replace('_', ' ')}: {_readable(value) or 'compared'}")
         return
+    _meadow_made(path)
     scene = load_scene(path, grid(**config_default("spectral")))
     data = validate(data, "scene", path)
     light, head, cam = data["light"], data["eye"], scene.camera
@@ -541,11 +566,13 @@ def parser():
     g.add_argument("--units", type=_positive_or("m", "mm"), default="mm",
                    help="lengths in the .eye file: mm (CompoundRay's eye specification), m, or file units per mm "
                         "(default: %(default)s)")
-    g.add_argument("--frame", type=_frame, default="camera",
+    g.add_argument("--frame", type=_frame,
                    help="camera: x right, y up, z forward of a camera looking where the bee faces (the head "
                         "frame's -y, z, x); head: head-frame coordinates unchanged; or x=…,y=…,z=… naming the "
                         "head direction (anterior, posterior, left, right, dorsal, ventral) of each of the file's "
-                        "axes, as micro-CT eyes need (default: %(default)s)")
+                        "axes, as micro-CT eyes need (Taylor et al.'s: x=left,y=ventral,z=posterior) (default: "
+                        "camera when writing; when reading, camera unless the eyes would then look backwards, "
+                        "which is refused)")
     g.add_argument("--acceptance", choices=["fwhm", "variance"], default="fwhm",
                    help="the file's acceptance angle, radians, is Δρ (fwhm, CompoundRay's definition) or √2·Δρ "
                         "(variance: the same angular blur as the receptor's) (default: %(default)s)")
@@ -569,9 +596,10 @@ def parser():
                    "(beeoptics.eye.given)")
     p.add_argument("--quiet", **quiet)
     p.set_defaults(run=build_eye)
-    p = sub.add_parser("render", help="trace an eye in a scene: responses and retinal images",
+    p = sub.add_parser("render", parents=[eyefile], help="trace an eye in a scene: responses and retinal images",
                        description=render.__doc__)
-    p.add_argument("receptors", metavar="RECEPTORS_CSV", help="receptor table, as build-eye writes it")
+    p.add_argument("receptors", metavar="RECEPTORS", help="receptor table, as build-eye writes it, or receptors in "
+                   f"another format convert reads ({FORMAT_LIST})")
     p.add_argument("scene", metavar="SCENE_YAML", help="scene description, e.g. scenes/meadow/scene.yaml")
     p.add_argument("--eye", metavar="EYE_YAML", help="the receptors' eye, for the retinal-plane images "
                    "(without it, only responses.csv and irradiance.npz are written) and its receptor set")
@@ -615,11 +643,11 @@ def parser():
     p.add_argument("--flowers", metavar="CSV", type=Path, help="also write the table of its flowers: species, "
                    "the sphere about each (x_m, y_m, z_m, radius_m) and the way it faces (facing_x, _y, _z)")
     p.set_defaults(run=meadow)
-    p = sub.add_parser("convert", parents=[eyefile], help="convert receptors between .csv, .eye and .ply",
+    p = sub.add_parser("convert", parents=[eyefile], help=f"convert receptors from one format to another: {FORMAT_LIST}",
                        description=convert.__doc__)
     p.add_argument("input", metavar="IN", help="receptors.csv, a CompoundRay .eye, a receptor .ply or an OCES "
                    ".gltf or .glb")
-    p.add_argument("output", metavar="OUT", help="the file to write: .csv, .eye, .ply, .gltf or .glb")
+    p.add_argument("output", metavar="OUT", help=f"the file to write: {FORMAT_LIST}")
     p.add_argument("--only", choices=SIDES, help="write only this eye's receptors (default: every receptor)")
     g = p.add_argument_group("tables of directions (see beeoptics.io.interchange)")
     g.add_argument("--directions", action="store_true", help="IN is a table of bare unit directions, x,y,z a line "
@@ -637,9 +665,9 @@ def parser():
     p.add_argument("--quality", choices=[*MEASURES, "none"], default="delta_phi_deg",
                    help="writing a .ply: the column MeshLab shows as vertex quality (default: %(default)s)")
     p.set_defaults(run=convert)
-    p = sub.add_parser("info", parents=[eyefile], help="describe an eye, a scene or receptors",
+    p = sub.add_parser("info", parents=[eyefile], help=f"describe an eye, a scene or receptors ({FORMAT_LIST})",
                        description=info.__doc__)
-    p.add_argument("path", metavar="PATH", help="eye.yaml, scene.yaml, receptors.csv, a .eye or a .ply")
+    p.add_argument("path", metavar="PATH", help=f"eye.yaml, scene.yaml, or receptors: {FORMAT_LIST}")
     p.set_defaults(run=info)
     p = sub.add_parser("compile-kernels", help="compile the tracer's and the relaxation's kernels into numba's "
                        "cache (make does it at set-up)", description=compile_kernels.__doc__)
@@ -663,7 +691,9 @@ def main(argv=None):
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except OSError as e:  # an unwritable output folder, a full disk
-        print(f"beeoptics: error: {e}", file=sys.stderr)
+        # The file and the cause, without Python's "[Errno N]".
+        where = f"{e.filename}: " if e.filename else ""
+        print(f"beeoptics: error: {where}{e.strerror or e}", file=sys.stderr)
         return 1
     except (KeyboardInterrupt, ImportError) as e:  # Ctrl-C; SIGTERM (a scheduler's time limit, kill)
         stop = stop_behind(e)

@@ -9,6 +9,7 @@ the field at fault.
 import base64
 import copy
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -513,6 +514,14 @@ def test_numbers_given_as_text_on_the_command_line_are_read_as_numbers(tmp_path)
     with pytest.raises(InputError) as e:
         validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml")
     assert_names(e, tmp_path / "config.yaml", "trace.parts")
+
+
+def test_numbers_in_a_list_given_as_text_on_the_command_line_are_read_as_numbers(tmp_path):
+    # --config sweeps='{s: {eyes: [tiny], scenes: [open], delta_rho_deg: [1.5, 4]}}', as Snakemake 9 reads it.
+    cfg = default_config()
+    cfg["sweeps"] = {"s": {"eyes": ["tiny"], "scenes": ["open"], "delta_rho_deg": ["1.5", "4"]}}
+    validate_config(cfg, CONFIG_SCHEMA, tmp_path / "config.yaml", overrides={"sweeps": cfg["sweeps"]})
+    assert cfg["sweeps"]["s"]["delta_rho_deg"] == [1.5, 4]
 
 
 def dry_run_refuses(tmp_path, cfg):
@@ -1064,3 +1073,115 @@ def test_a_flight_in_millimetres_or_beyond_a_bees_reach_is_refused(tmp_path, sca
     with pytest.raises(InputError) as e:
         read_flight(path)
     assert "millimetres" in assert_names(e, path, field)
+
+
+# --- errors in their true form: the cause, not what it led to -----------------------------------
+
+
+def test_a_bad_line_in_a_flight_stops_the_workflow_at_its_start_in_one_line(tmp_path):
+    """Not in the traceback of the flight rules' input function, which reads the CSV to share its frames."""
+    shutil.copytree(DATA / "scenes", tmp_path / "scenes")
+    flight = tmp_path / "scenes" / "generated" / "flights" / "approach.csv"
+    lines = flight.read_text().splitlines()
+    fields = lines[2].split(",")
+    fields[1] += "x"  # x_m of the second flight row, the file's third line
+    flight.write_text("\n".join([*lines[:2], ",".join(fields), *lines[3:]]) + "\n")
+    cfg = default_config()
+    cfg["scenes_dir"] = str(tmp_path / "scenes")
+    printed = dry_run_refuses(tmp_path, cfg)
+    assert "Traceback" not in printed and "InputFunctionException" not in printed, printed
+    said = [line for line in printed.splitlines() if "error" in line.lower()]
+    assert said == [f"beeoptics: error: {flight}: x_m: row 3: {fields[1]!r} is not a number"], printed
+
+
+def gltf_scene(vertices, faces):
+    """:func:`gltf_text`'s document with a scene that places its mesh, as pymeshlab needs to read it."""
+    doc = json.loads(gltf_text(vertices, faces))
+    doc.update(scenes=[{"nodes": [0]}], scene=0, nodes=[{"mesh": 0}])
+    doc["accessors"][0].update(min=np.min(vertices, 0).tolist(), max=np.max(vertices, 0).tolist())
+    return doc
+
+
+def textured_square(folder, png):
+    """A scene of one textured square (a glTF) whose texture is the PNG bytes ``png``."""
+    v = np.array([[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]], "<f4")
+    uv = np.array([[0, 1], [1, 1], [1, 0], [0, 0]], "<f4")
+    doc = gltf_scene(v, TRIANGLES)
+    blob = base64.b64decode(doc["buffers"][0]["uri"].split(",", 1)[1]) + uv.tobytes()
+    doc["buffers"][0].update(byteLength=len(blob), uri="data:application/octet-stream;base64,"
+                             + base64.b64encode(blob).decode())
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": len(blob) - uv.nbytes, "byteLength": uv.nbytes})
+    doc["accessors"].append({"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"})
+    doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2
+    (folder / "square.gltf").write_text(json.dumps(doc))
+    (folder / "square.png").write_bytes(png)
+    scene = open_scene()
+    scene["objects"] = [{"name": "square", "mesh": "square.gltf",
+                         "texture": {"image": "square.png", "palette": {"#ff0000": "leaf"}}}]
+    return write_scene(folder / "scene.yaml", scene)
+
+
+def noisy_png(path):
+    """A 64 × 64 PNG of random colours (which compresses badly: its pixels fill most of the file)."""
+    import OpenImageIO as oiio
+
+    pixels = np.random.default_rng(0).random((64, 64, 3)).astype(np.float32)
+    image = oiio.ImageBuf(oiio.ImageSpec(64, 64, 3, oiio.UINT8))
+    image.set_pixels(oiio.ROI(0, 64, 0, 64, 0, 1, 0, 3), pixels)
+    assert image.write(str(path))
+    return Path(path).read_bytes()
+
+
+def test_a_truncated_texture_is_said_to_be_unreadable_without_libpngs_noise(tmp_path, grid, capfd):
+    whole = noisy_png(tmp_path / "whole.png")
+    scene_file = textured_square(tmp_path, whole[:len(whole) // 2])
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    assert "truncated" in assert_names(e, tmp_path / "square.png", "")
+    # libpng writes to the process's stderr, below Python: capfd sees it.
+    assert capfd.readouterr().err == ""
+
+
+def test_colours_missing_from_a_palette_are_printed_as_plain_text(tmp_path, grid):
+    scene_file = textured_square(tmp_path, noisy_png(tmp_path / "noise.png"))
+    with pytest.raises(InputError) as e:
+        load_scene(scene_file, grid)
+    message = assert_names(e, scene_file, "objects.0.texture.palette")
+    assert "np.str_" not in message and re.search(r"colours (#[0-9a-f]{6}, ){4}#[0-9a-f]{6} and \d+ more", message)
+
+
+def test_a_gltf_primitive_naming_a_material_the_file_lacks_is_named(tmp_path, grid):
+    doc = gltf_scene(SQUARE, TRIANGLES)
+    doc["materials"] = [{"pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}}]
+    doc["meshes"][0]["primitives"][0]["material"] = 3
+    (tmp_path / "square.gltf").write_text(json.dumps(doc))
+    scene = open_scene()
+    scene["objects"] = [{"name": "square", "mesh": "square.gltf", "palette": {"#ff0000": "leaf"}}]
+    with pytest.raises(InputError) as e:
+        load_scene(write_scene(tmp_path / "scene.yaml", scene), grid)
+    message = assert_names(e, tmp_path / "square.gltf", "meshes.0.primitives.0.material")
+    assert "material 3 does not exist (the file has 1 materials)" in message
+
+
+def test_a_receptor_table_with_a_byte_order_mark_is_read(tmp_path):
+    """As a spreadsheet's "CSV UTF-8" writes it."""
+    path = tmp_path / "receptors.csv"
+    write_table(path, {"id": [0, 1], "side": ["right", "left"], "x": [0.0, 0.0], "y": [-1.0, 1.0],
+                       "z": [0.0, 0.0], "ax": [0.0, 0.0], "ay": [-1.0, 1.0], "az": [0.0, 0.0],
+                       "facet_diameter_um": [20.0, 20.0], "delta_phi_deg": [2.0, 2.0], "delta_rho_deg": [2.6, 2.6]})
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    assert list(read_receptors(path).id) == [0, 1]
+
+
+def test_a_sample_count_beyond_reason_is_refused_before_any_work(tmp_path, capsys):
+    from beeoptics import cli
+
+    with pytest.raises(InputError) as e:
+        validate_config({"trace": {"samples_per_receptor": 10 ** 9}}, CONFIG_SCHEMA, tmp_path / "config.yaml",
+                        folders=False)
+    assert "maximum of 65536" in assert_names(e, tmp_path / "config.yaml", "trace.samples_per_receptor")
+    code = cli.main(["render", str(tmp_path / "receptors.csv"), str(DATA / "scenes" / "open" / "scene.yaml"),
+                     "-o", str(tmp_path / "out"), "--samples", "1000000000", "--quiet"])
+    assert (code, capsys.readouterr().err) == (2, "beeoptics: error: command line: --samples: 1000000000 is greater "
+                                                  "than the maximum of 65536\n")
+    assert not (tmp_path / "out").exists()

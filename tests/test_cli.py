@@ -1,5 +1,6 @@
 """The command-line tool: every subcommand on the tiny eye and test scenes, its help, and bad input."""
 
+import re
 import shutil
 import signal
 import subprocess
@@ -75,6 +76,17 @@ def test_help_of_every_subcommand_explains_every_option(capsys):
             for part in key.split("."):
                 node = node["properties"][part]
             assert f"{option} " in text and f"(default: {node['default']})" in text, option
+
+
+def test_the_help_names_every_format_convert_and_info_read(capsys):
+    """In the list of subcommands and in info's own help, .gltf and .glb among them."""
+    _, top, _ = call(capsys, "--help")
+    _, info, _ = call(capsys, "info", "--help")
+    for name in ("convert", "info"):
+        # Its entry, continuation lines (indented further) included.
+        line = " ".join(re.search(rf"^    {name} (.*?)\n {{0,4}}\S", top, re.S | re.M).group(1).split())
+        assert all(suffix in line for suffix in cli.FORMATS), (name, line)
+    assert all(" ".join(info.split()).count(suffix) >= 2 for suffix in cli.FORMATS), info
 
 
 def test_build_eye_writes_the_receptor_table(built):
@@ -441,10 +453,60 @@ def test_relaxation_progress_runs_from_the_first_move_to_the_tolerance():
     assert cli.settled(1.0, 0.005, 0.01) == 100
 
 
+def test_a_generated_meadow_not_yet_generated_is_made_on_demand_as_the_meadow_command_makes_it(tmp_path, capsys):
+    """As in a fresh clone, whose scenes/meadow has its meadow.yaml but not the mesh the workflow generates."""
+    scene = tmp_path / "generated"
+    shutil.copytree(DATA / "scenes" / "generated", scene)
+    code, out, err = call(capsys, "info", scene / "scene.yaml")
+    assert code == 0 and "object meadow:" in out and "generating" in err, err
+    code, _, _ = call(capsys, "meadow", scene / "meadow.yaml", "-o", tmp_path / "meadow.ply", "--flowers",
+                      tmp_path / "flowers.csv")
+    assert code == 0
+    assert (scene / "meadow.ply").read_bytes() == (tmp_path / "meadow.ply").read_bytes()
+    assert (scene / "meadow_flowers.csv").read_bytes() == (tmp_path / "flowers.csv").read_bytes()
+
+
+def test_render_reads_a_compoundray_eye_as_convert_does(built, tmp_path, capsys):
+    eye = tmp_path / "tiny.eye"
+    assert call(capsys, "convert", built / "receptors.csv", eye)[0] == 0
+    out = tmp_path / "out"
+    code, _, err = call(capsys, "render", eye, FLOWER, "-o", out, *FAST)
+    assert code == 0, err
+    # The table the responses' ids refer to, beside them: the .eye's receptors.
+    table, responses = read_receptors(out / "receptors.csv"), read_table(out / "responses.csv", text=["side"])
+    np.testing.assert_allclose(table.position, read_receptors(built / "receptors.csv").position, atol=1e-8)
+    np.testing.assert_array_equal(responses["id"], table.id)
+
+
+def test_the_relaxations_progress_never_goes_back(monkeypatch, tmp_path, capsys):
+    """The largest move rises again where the springs turn geodesic: the bar holds its furthest point."""
+    import beeoptics.pipeline.eyes as stages
+
+    shown = []
+
+    class Bar(cli.tqdm):
+        def update(self, n=1):
+            assert n >= 0, "the bar went back"
+            super().update(n)
+            shown.append(self.n)
+
+    def build_facets(*args, progress, **kwargs):
+        for iteration, largest_mm in enumerate((6e-3, 1e-3, 2e-4, 3e-3, 5e-4, 4e-5)):
+            progress(iteration, largest_mm)
+        raise InputError("eye.yaml", "facets", "stopped here by the test")
+
+    monkeypatch.setattr(cli, "tqdm", Bar)
+    monkeypatch.setattr(stages, "remesh_eye", lambda *args, **kwargs: None)
+    monkeypatch.setattr(stages, "build_facets", build_facets)
+    code, _, _ = call(capsys, "build-eye", EYE, "-o", tmp_path / "out")
+    assert code == 2 and shown == sorted(shown) and shown[-1] == 100, shown
+
+
 def test_an_output_folder_that_cannot_be_written_is_named(built, tmp_path, capsys):
     blocker = tmp_path / "a file"
     blocker.write_text("not a folder\n")
     code, _, err = call(capsys, *render_args(built / "receptors.csv", FLOWER, blocker / "out"))
     assert code == 2 and err.strip() == f"beeoptics: error: {blocker / 'out'}: cannot write there (Not a directory)"
     code, _, err = call(capsys, "convert", built / "receptors.csv", blocker / "eye.eye")
-    assert code == 1 and err.strip() == f"beeoptics: error: [Errno 17] {blocker}: cannot write there (File exists)"
+    # The cause in words, without Python's "[Errno 17]".
+    assert code == 1 and err.strip() == f"beeoptics: error: {blocker}: cannot write there (a file, not a folder)"

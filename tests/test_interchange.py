@@ -138,6 +138,33 @@ def test_variance_convention_gives_compoundray_the_spread_of_snyders_gaussian(tm
     assert theirs == pytest.approx(ratio * ours, rel=0.02)
 
 
+def test_a_file_whose_eyes_look_backwards_in_the_camera_frame_needs_its_frame_named(tmp_path, table):
+    """The camera frame turned through the head's centre (a micro-CT frame) would give eyes that look backwards."""
+    # The test eyes, which look out sideways, turned to look forwards as bees' eyes do.
+    axis = table.axis + [1.0, 0.0, 0.0]
+    table = table._replace(axis=axis / np.linalg.norm(axis, axis=1, keepdims=True))
+    path = tmp_path / "both.eye"
+    write_compoundray_eye(path, table)
+    assert read_compoundray_eye(path).axis[:, 0].mean() > 0.5
+    turned = tmp_path / "turned.eye"
+    write_compoundray_eye(turned, table, frame="x=left,y=ventral,z=posterior")
+    with pytest.raises(InputError) as e:
+        read_compoundray_eye(turned)
+    assert (e.value.path, e.value.field) == (str(turned), "frame") and "look backwards" in str(e.value)
+    for frame in ("x=left,y=ventral,z=posterior", "camera"):  # named, it is read as named
+        read_compoundray_eye(turned, frame=frame)
+
+
+def test_a_micro_ct_eye_read_without_its_frame_is_refused_and_with_it_looks_forwards(shared_data):
+    """Taylor et al.'s (2019) files, as CompoundRay ships them: x left, y ventral, z posterior."""
+    path = shared_data / "eyes_ct" / "BT_77970-real.eye"
+    with pytest.raises(InputError, match="frame: .* look backwards"):
+        read_compoundray_eye(path)
+    eye = read_compoundray_eye(path, frame="x=left,y=ventral,z=posterior")
+    # As the shipped eyes look, half of each axis anterior.
+    assert eye.axis[:, 0].mean() > 0.5
+
+
 def test_both_eyes_in_one_file_split_by_side(tmp_path, table):
     path = tmp_path / "both.eye"
     write_compoundray_eye(path, table)

@@ -221,6 +221,19 @@ def test_a_fred_median_is_the_median_of_the_spectra_it_names(wavelengths):
         spectrum({"fred": {"genus": "Nonexistentia", "median": True}}, wavelengths, ".", "scene.yaml", "petal")
 
 
+@pytest.mark.parametrize("median", [None, False])
+def test_a_fred_record_by_name_is_the_one_record_the_fields_match(tmp_path, wavelengths, median):
+    """The scene schema's form {fred: {genus, species, part}}, through the schema (which fills in median)."""
+    from beeoptics.light import fred
+
+    name = {"genus": "Acanthus", "species": "Syriacus", "part": "leaf lower side"}
+    scene = yaml.safe_load((ROOT / "tests" / "data" / "scenes" / "open" / "scene.yaml").read_text())
+    scene["materials"]["leaf"]["reflectance"] = {"fred": {**name, **({} if median is None else {"median": median})}}
+    loaded = load_scene(write_scene(tmp_path / "scene.yaml", scene), wavelengths)
+    want = fred.reflectance(fred.find(**name), wavelengths)
+    np.testing.assert_array_equal(loaded.reflectance[loaded.material_names.index("leaf")], want)
+
+
 def test_a_scene_read_without_its_geometry_has_the_same_light_and_materials(wavelengths):
     """geometry=False (what gathering the responses needs) keeps the sky, sun and materials, and no object."""
     path = ROOT / "tests" / "data" / "scenes" / "flower" / "scene.yaml"

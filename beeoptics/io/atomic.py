@@ -77,7 +77,8 @@ def atomic_path(path):
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
     except OSError as e:
         # Name the folder asked for, not the temporary file's name.
-        raise OSError(e.errno, f"{path.parent}: cannot write there ({e.strerror})") from None
+        reason = "a file, not a folder" if path.parent.is_file() else e.strerror
+        raise OSError(e.errno, f"cannot write there ({reason})", str(path.parent)) from None
     os.close(fd)
     # mkstemp makes the file private; an artifact gets the permissions open() would give it.
     umask = os.umask(0)

@@ -5,6 +5,10 @@ time by default; the ``DateTime`` attribute is pinned here, so that the
 same inputs give byte-identical files.
 """
 
+import os
+import sys
+from contextlib import contextmanager
+
 import numpy as np
 import OpenImageIO as oiio
 
@@ -97,16 +101,41 @@ def write_exr(path, data, channel_names):
     _write(path, np.asarray(data, np.float32), oiio.FLOAT, channel_names, compression="zip")
 
 
+@contextmanager
+def _stderr_silenced():
+    """The process's stderr (file descriptor 2) pointed at /dev/null for the block.
+
+    libpng prints its complaints about a damaged file to stderr, below Python and OpenImageIO,
+    before OpenImageIO reports them; the reader reports them once, in its own error.
+    """
+    sys.stderr.flush()
+    saved, devnull = os.dup(2), os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+
+
 def read_image(path):
     """Pixels (h, w, c) as float32 and the channel names.
 
     Raises
     ------
     InputError
-        If the file is missing or not an image OpenImageIO reads.
+        If the file is missing, truncated or damaged, or not an image OpenImageIO reads.
     """
+    if not os.path.isfile(path):
+        raise InputError(path, "", "no such image file")
     note(path)
-    buf = oiio.ImageBuf(str(path))
-    if buf.has_error:
-        raise InputError(path, "", f"cannot read image: {buf.geterror()}")
-    return buf.get_pixels(oiio.FLOAT), list(buf.spec().channelnames)
+    with _stderr_silenced():
+        buf = oiio.ImageBuf(str(path))
+        pixels = None if buf.has_error else buf.get_pixels(oiio.FLOAT)
+        # Read out, the error is not printed again when the buffer is destroyed.
+        error = buf.geterror()
+    if error or pixels is None:
+        reason = error.strip().splitlines()[0] if error.strip() else "no pixels"
+        raise InputError(path, "", f"the image is unreadable, truncated or damaged ({reason})")
+    return pixels, list(buf.spec().channelnames)

@@ -53,7 +53,13 @@ CompoundRay's ``spherical_split_orientationwise`` projection shows on the
 right and on the left. ``frame="head"`` writes head-frame coordinates
 unchanged; any other frame is named by the head direction of each of the
 file's axes (:func:`beeoptics.headframe.frame_axes`), as micro-CT eyes need:
-Taylor et al.'s (2019) are in the frame their scans were registered in.
+Taylor et al.'s (2019) are in the frame their scans were registered in
+(x left, y ventral, z posterior), the camera frame turned through the head's
+centre, so that read in the camera frame their eyes look backwards (the
+mean axis 0.48–0.65 posterior, where the shipped eyes' is 0.5 anterior). A
+file read without a frame named is read in the camera frame and refused
+if its eyes then look backwards (:data:`BACKWARDS`), since no insect's do:
+its frame must be named (``frame="camera"`` reads it so regardless).
 
 Acceptance angle. Δρ of a receptor table is the FWHM of Snyder's (1977)
 Gaussian A(θ) (see :mod:`beeoptics.eye.optics`), and CompoundRay's acceptance
@@ -132,7 +138,13 @@ PLY_FLOATS = MEASURES
 EYE_FORMAT = "%.9g"
 
 
-def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_convention="fwhm",
+#: The anterior component of an eye's mean axis below which it looks backwards, in a file read without its
+#: frame named: halfway between an eye that looks straight out sideways (0) and a micro-CT eye read in the
+#: wrong frame (Taylor et al.'s eight files: −0.48 to −0.65).
+BACKWARDS = -0.25
+
+
+def read_compoundray_eye(path, side="auto", units="mm", frame=None, angle_convention="fwhm",
                          delta_phi_deg=None, facet_diameter_um=None):
     """Read a CompoundRay ``.eye`` file as a receptor table.
 
@@ -146,8 +158,9 @@ def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_co
         a file of both eyes is read as both.
     units : {"m", "mm"} or float
         Units of the file, or file units per millimetre.
-    frame : str
-        The file's frame: "camera", "head" or "x=…,y=…,z=…" (see the module notes).
+    frame : str, optional
+        The file's frame: "camera", "head" or "x=…,y=…,z=…" (see the module notes);
+        by default the camera frame, if the eyes then look forwards.
     angle_convention : {"fwhm", "variance"}
         How the file's acceptance angle relates to Δρ (see the module notes).
     delta_phi_deg, facet_diameter_um : float, optional
@@ -165,11 +178,12 @@ def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_co
     InputError
         If the file is missing, empty, has a line without exactly eight
         numbers, a value that is not finite, a direction of zero length, or a
-        negative acceptance angle or focal point offset, or an eye is not of
-        a bee eye's size in the units named.
+        negative acceptance angle or focal point offset, an eye is not of
+        a bee eye's size in the units named, or, no frame named, the eyes
+        look backwards in the camera frame.
     """
     path = Path(path)
-    scale, rotation, factor = _conventions(units, frame, angle_convention)
+    scale, rotation, factor = _conventions(units, frame or "camera", angle_convention)
     if side not in (*SIDES, "auto"):
         raise ValueError(f"side must be 'right', 'left' or 'auto', not {side!r}")
     values, line = _parse_eye(path)
@@ -182,6 +196,12 @@ def read_compoundray_eye(path, side="auto", units="mm", frame="camera", angle_co
     # The file holds row vectors e = R h, so h = e R.
     position = values[:, :3] / scale @ rotation
     axis = values[:, 3:6] / length[:, None] @ rotation
+    # An eye looking straight out sideways has a mean axis of 0 anterior: refused well short of it.
+    forward = axis[:, 0].mean()
+    if frame is None and forward < BACKWARDS:
+        raise InputError(path, "frame", f"in CompoundRay's camera frame, assumed when none is named, its eyes look "
+                         f"backwards (mean axis {-forward:.2f} posterior): name the file's frame, e.g. "
+                         "x=left,y=ventral,z=posterior for Taylor et al.'s micro-CT eyes (or camera to read it so)")
     n = len(values)
     if side == "auto":
         key = np.where(position[:, 1] != 0.0, position[:, 1], axis[:, 1])
@@ -234,7 +254,7 @@ def read_directions(path, halves=None, frame="head", radius_mm=None, centre_mm=N
     path = Path(path)
     _, rotation, _ = _conventions("mm", frame, "fwhm")
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        lines = path.read_text(encoding="utf-8-sig").splitlines()
     except FileNotFoundError:
         raise InputError(path, "", "no such file") from None
     except UnicodeDecodeError:
@@ -449,7 +469,7 @@ def _conventions(units, frame, angle_convention):
 def _parse_eye(path):
     """The numbers of an eye file (n, 8) and the line number of each row."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except FileNotFoundError:
         raise InputError(path, "", "no such file") from None
     except UnicodeDecodeError:

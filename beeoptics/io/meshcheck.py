@@ -295,10 +295,16 @@ def _gltf(path):
         doc, binary = _gltf_document(path)
         buffers = [_gltf_buffer(path, b, binary) for b in doc.get("buffers", [])]
         vertices, faces = [], []
-        for mesh in doc.get("meshes", []):
-            for primitive in mesh["primitives"]:
+        materials = len(doc.get("materials", []))
+        for m, mesh in enumerate(doc.get("meshes", [])):
+            for k, primitive in enumerate(mesh["primitives"]):
                 if primitive.get("mode", GLTF_TRIANGLES) != GLTF_TRIANGLES:
                     raise InputError(path, "faces", "faces must be triangles; a primitive is not")
+                # Else pymeshlab gives its faces no colour, and a palette reports a colour it lacks.
+                material = primitive.get("material")
+                if material is not None and not (isinstance(material, int) and 0 <= material < materials):
+                    raise InputError(path, f"meshes.{m}.primitives.{k}.material",
+                                     f"material {material!r} does not exist (the file has {materials} materials)")
                 position = _accessor(doc, buffers, primitive["attributes"]["POSITION"]).reshape(-1, 3)
                 index = (_accessor(doc, buffers, primitive["indices"]) if "indices" in primitive
                          else np.arange(len(position)))

@@ -58,10 +58,14 @@ def read_table(path, numeric=(), text=()):
     """
     note(path)
     try:
-        with open(path, newline="") as f:
+        # utf-8-sig: spreadsheets (Excel's "CSV UTF-8") begin the file with a byte-order mark, which
+        # would otherwise become part of the first column's name.
+        with open(path, newline="", encoding="utf-8-sig") as f:
             rows = list(csv.reader(f))
     except FileNotFoundError:
         raise InputError(path, "", "no such file") from None
+    except UnicodeDecodeError:
+        raise InputError(path, "", "not a UTF-8 text file") from None
     if not rows:
         raise InputError(path, "", "the table is empty")
     header, body = rows[0], rows[1:]

@@ -234,8 +234,13 @@ def _numbers_from_text(data, schema):
                 else:
                     _numbers_from_text(value, sub)
     elif isinstance(data, list) and isinstance(schema.get("items"), dict):
-        for item in data:
-            _numbers_from_text(item, schema["items"])
+        items = schema["items"]
+        for k, item in enumerate(data):
+            # A list's numbers too (a sweep's values: --config sweeps='{s: {delta_rho_deg: [1.5, 4]}}').
+            if isinstance(item, str) and items.get("type") in ("integer", "number"):
+                data[k] = _number(item, items["type"])
+            else:
+                _numbers_from_text(item, items)
 
 
 def _number(text, kind):

@@ -128,9 +128,11 @@ def spectrum(spec, wavelengths, base_dir, source, field):
                 raise InputError(Path(base_dir) / args["file"], args["column"], "no such column")
             return values[:, names.index(args["column"])]
         if kind == "fred":
+            # median says how to combine the records the fields match (the schema fills in false); not a field.
+            query = {k: v for k, v in args.items() if k != "median"}
             if args.get("median"):
-                return fred.median_reflectance(wl, source, where, **{k: v for k, v in args.items() if k != "median"})
-            data_id = args["data_id"] if "data_id" in args else fred.find(source, where, **args)
+                return fred.median_reflectance(wl, source, where, **query)
+            data_id = query["data_id"] if "data_id" in query else fred.find(source, where, **query)
             return fred.reflectance(int(data_id), wl, source, where)
         if kind == "sigmoid":
             return args["low"] + (args["high"] - args["low"]) / (

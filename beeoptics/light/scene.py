@@ -108,7 +108,8 @@ def _palette_ids(colours, palette, names, source, field, user):
     hexes, which = _hex(colours)
     missing = sorted(set(hexes) - set(lookup))
     if missing:
-        raise InputError(source, field, f"colours {missing[:5]} are not in the palette")
+        more = f" and {len(missing) - 5} more" if len(missing) > 5 else ""
+        raise InputError(source, field, f"colours {', '.join(map(str, missing[:5]))}{more} are not in the palette")
     return np.array([names.index(lookup[h]) for h in hexes], dtype=np.int32)[which]
 
 
