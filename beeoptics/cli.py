@@ -705,5 +705,21 @@ def main(argv=None):
     return 0
 
 
+def entry():
+    """The console command ``beeoptics``: :func:`main`, and after a stop, out without the interpreter's teardown.
+
+    A Ctrl-C or SIGTERM can come while a trace batch runs in Embree's
+    threads; the teardown then meets Open3D's objects still held, which its
+    allocator reports as leaks on stderr and ends the process with status 1
+    in place of the stop's. The partial outputs are removed by then.
+    """
+    status = main()
+    if status in (130, Terminated.status):
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    sys.exit(status)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()

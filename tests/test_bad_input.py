@@ -932,7 +932,7 @@ def receptor_table(path, per_eye=2, **columns):
 
 
 @pytest.mark.parametrize("column, value", [("delta_rho_deg", 120.0), ("facet_diameter_um", 0.04),
-                                           ("facet_diameter_um", 400.0), ("delta_phi_deg", 120.0)])
+                                           ("facet_diameter_um", 4000.0), ("delta_phi_deg", 120.0)])
 def test_a_receptor_table_with_values_no_compound_eye_has_is_refused(tmp_path, column, value):
     usual = {"delta_rho_deg": 2.6, "facet_diameter_um": 20.0, "delta_phi_deg": 2.0}[column]
     path = receptor_table(tmp_path / "receptors.csv", **{column: [value, usual, usual, usual]})
@@ -941,15 +941,18 @@ def test_a_receptor_table_with_values_no_compound_eye_has_is_refused(tmp_path, c
     assert "receptor 0" in assert_names(e, path, column)
 
 
-@pytest.mark.parametrize("drho, warned", [(2.6, False), (25.0, True), (0.2, True)])
-def test_an_unusual_acceptance_angle_in_a_receptor_table_is_warned_of_in_one_line(tmp_path, caplog, drho, warned):
-    path = receptor_table(tmp_path / "receptors.csv", delta_rho_deg=[drho, 2.6, 2.6, 2.6])
+@pytest.mark.parametrize("column, value, warned", [("delta_rho_deg", 2.6, False), ("delta_rho_deg", 25.0, True),
+                                                   ("delta_rho_deg", 0.2, True), ("facet_diameter_um", 113.0, True),
+                                                   ("facet_diameter_um", 3.0, True)])
+def test_an_unusual_receptor_in_a_receptor_table_is_warned_of_in_one_line(tmp_path, caplog, column, value, warned):
+    usual = {"delta_rho_deg": 2.6, "facet_diameter_um": 20.0}[column]
+    path = receptor_table(tmp_path / "receptors.csv", **{column: [value, usual, usual, usual]})
     with caplog.at_level("WARNING", logger="beeoptics"):
         read_receptors(path)
     said = [r.getMessage() for r in caplog.records]
     assert bool(said) == warned, said
     if warned:
-        assert said[0].startswith(f"{path}: delta_rho_deg: 1 receptors") and "\n" not in said[0], said
+        assert said[0].startswith(f"{path}: {column}: 1 receptors") and "\n" not in said[0], said
 
 
 def receptor_set_file(tmp_path, lambdas):

@@ -371,16 +371,22 @@ def test_an_eye_from_compoundray_renders_here(tmp_path, capsys):
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["irradiance.npz", "responses.csv"]
 
 
-def test_a_killed_render_leaves_nothing_once_the_next_command_runs(built, rendered, tmp_path):
-    out = tmp_path / "out"
+def render_under_way(built, out):
+    """A long render started in a subprocess, returned once its scratch folder exists and it is tracing."""
     args = [str(a) for a in [TOOL, "render", built / "receptors.csv", FLOWER, "--eye", EYE, "-o", out,
                              "--samples", "4096", "--depth", "2", "--step-nm", "20", "--width-px", "32", "--quiet"]]
-    run = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    run = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while not list(out.glob(".partial-*")) and run.poll() is None and time.monotonic() < deadline:
         time.sleep(0.02)
     time.sleep(0.5)
-    assert run.poll() is None, "the render ended before it could be killed"
+    assert run.poll() is None, "the render ended before it could be stopped"
+    return run
+
+
+def test_a_killed_render_leaves_nothing_once_the_next_command_runs(built, rendered, tmp_path):
+    out = tmp_path / "out"
+    run = render_under_way(built, out)
     run.send_signal(signal.SIGKILL)
     run.wait(30)
     assert [p.name.startswith(".partial-") for p in out.iterdir()] == [True]
@@ -395,14 +401,7 @@ def test_a_killed_render_leaves_nothing_once_the_next_command_runs(built, render
 def test_a_render_sent_sigterm_cleans_up_as_after_ctrl_c(built, tmp_path):
     # SIGTERM is what a cluster's scheduler sends at a job's time limit (Slurm, then SIGKILL after its KillWait).
     out = tmp_path / "out"
-    args = [str(a) for a in [TOOL, "render", built / "receptors.csv", FLOWER, "--eye", EYE, "-o", out,
-                             "--samples", "4096", "--depth", "2", "--step-nm", "20", "--width-px", "32", "--quiet"]]
-    run = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 120
-    while not list(out.glob(".partial-*")) and run.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.02)
-    time.sleep(0.5)
-    assert run.poll() is None, "the render ended before it could be stopped"
+    run = render_under_way(built, out)
     run.send_signal(signal.SIGTERM)
     _, err = run.communicate(timeout=60)
     # The folder the render made for its outputs goes too, as nothing was written into it.

@@ -50,7 +50,7 @@ def test_lambertian_plane_under_a_uniform_sky_looks_like_rho_times_the_sky(tmp_p
     path = write_scene(tmp_path / "s.yaml", {
         "name": "plane", "light": {"sky": "uniform", "radiance": SKY, "sun": False},
         "eye": {"position_m": [0, 0, 0.5]}, "materials": {"leaf": {"reflectance": LEAF}},
-        "objects": [{"primitive": {"plane": {"size_m": 1.0e6}}, "material": "leaf"}]})
+        "objects": [{"primitive": {"plane": {"size_m": 1.0e5}}, "material": "leaf"}]})
     scene = load_scene(path, wavelengths)
     axes = fan(100, [0, 0, -1], 40, np.random.default_rng(1))
     want = scene.reflectance[0] * scene.sky.basis[0]
@@ -106,7 +106,7 @@ def test_noise_falls_as_one_over_the_square_root_of_the_samples(tmp_path, wavele
     path = write_scene(tmp_path / "s.yaml", {
         "name": "noise", "light": {"sky": "preetham", "sun": True, "sun_elevation_deg": 40},
         "eye": {"position_m": [0, 0, 0.5]}, "materials": {"leaf": {"reflectance": LEAF}},
-        "objects": [{"primitive": {"plane": {"size_m": 1.0e6}}, "material": "leaf"}]})
+        "objects": [{"primitive": {"plane": {"size_m": 1.0e5}}, "material": "leaf"}]})
     scene = load_scene(path, wavelengths)
     # Identical receptors: their spread is the estimator's noise (from sampling the sky).
     axes = np.tile([0.0, 0.0, -1.0], (400, 1))

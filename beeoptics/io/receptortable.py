@@ -46,9 +46,10 @@ COLUMNS = ("id", "side", "x", "y", "z", "ax", "ay", "az",
 MEASURES = ("facet_diameter_um", "delta_phi_deg", "delta_rho_deg")
 #: Columns of eyes with a dorsal rim area.
 DORSAL_RIM_COLUMNS = ("dorsal_rim", "microvilli_deg")
-#: Insect facet diameters, µm: about 5 to 100 (Land & Nilsson 2012, Animal Eyes, 2nd ed., ch. 7); a diameter
-#: outside them is in other units (0.02 is millimetres) or not a facet's.
-FACET_DIAMETER_UM = (5.0, 100.0)
+#: Insect facet diameters, µm: about 5 to 100 (Land & Nilsson 2012, Animal Eyes, 2nd ed., ch. 7), warned of
+#: outside them (a diameter measured from a micro-CT eye's neighbours reaches 113 µm at its rim); ten times
+#: beyond them, below 1 or above 1000, a column is in other units (0.02 is millimetres) and is refused.
+FACET_DIAMETER_UM, FACET_DIAMETER_UNITS_UM = (5.0, 100.0), (1.0, 1000.0)
 #: Acceptance angles of compound eyes' receptors, degrees: 0.5 to 20 as measured (Land 1997, Annu Rev Entomol
 #: 42:147), warned of outside them; beyond 30 (the config's largest Δρ) a receptor would see a sixth of the
 #: sphere at half its sensitivity, which no ommatidium does, and is refused.
@@ -145,7 +146,7 @@ def checked(table, path):
     drho = np.asarray(table.delta_rho_deg, float)
     facet = np.asarray(table.facet_diameter_um, float)
     dphi = np.asarray(table.delta_phi_deg, float)
-    low, high = FACET_DIAMETER_UM
+    low, high = FACET_DIAMETER_UNITS_UM
     for column, bad, message in (
         ("side", ~np.isin(np.asarray(table.side).astype(str), SIDES), f"side must be one of {', '.join(SIDES)}"),
         ("x, y, z", ~np.isfinite(table.position).all(1), "the position is not finite"),
@@ -155,17 +156,20 @@ def checked(table, path):
         ("delta_rho_deg", drho > DELTA_RHO_MAX_DEG, f"an acceptance angle above {DELTA_RHO_MAX_DEG:g}° is no "
          f"ommatidium's (compound eyes' are {DELTA_RHO_DEG[0]:g}–{DELTA_RHO_DEG[1]:g}°, Land 1997)"),
         ("facet_diameter_um", ~np.isnan(facet) & ~((facet >= low) & (facet <= high)),
-         f"insect facets are {low:g}–{high:g} µm across (Land & Nilsson 2012): the column is in other units"),
+         f"insect facets are {FACET_DIAMETER_UM[0]:g}–{FACET_DIAMETER_UM[1]:g} µm across (Land & Nilsson 2012), and "
+         f"outside {low:g}–{high:g} µm the column is in other units"),
         ("delta_phi_deg", ~np.isnan(dphi) & ~((dphi > 0) & (dphi <= DELTA_PHI_MAX_DEG)),
          f"an interommatidial angle must be above 0° and at most {DELTA_PHI_MAX_DEG:g}°"),
     ):
         if bad.any():
             raise InputError(path, column, f"receptor {_first(ids, bad)}: {message}")
-    unusual = (drho < DELTA_RHO_DEG[0]) | (drho > DELTA_RHO_DEG[1])
-    if unusual.any():
-        log.warning("%s: delta_rho_deg: %d receptors (the first %s, %.3g°) have acceptance angles outside the "
-                    "%g–%g° compound eyes have (Land 1997)", path, unusual.sum(), _first(ids, unusual),
-                    drho[unusual][0], *DELTA_RHO_DEG)
+    for column, values, (least, most), unit, source in (
+            ("delta_rho_deg", drho, DELTA_RHO_DEG, "°", "compound eyes' acceptance angles (Land 1997)"),
+            ("facet_diameter_um", facet, FACET_DIAMETER_UM, " µm", "insect facets (Land & Nilsson 2012)")):
+        unusual = (values < least) | (values > most)
+        if unusual.any():
+            log.warning("%s: %s: %d receptors (the first %s, %.3g%s) lie outside the %g–%g%s of %s", path, column,
+                        unusual.sum(), _first(ids, unusual), values[unusual][0], unit, least, most, unit, source)
     if table.dorsal_rim is not None:
         rim = np.asarray(table.dorsal_rim, float)
         angle = np.asarray(table.microvilli_deg, float)
