@@ -195,20 +195,22 @@ def daylight(results, eyes_dir):
 def noise(results, eyes_dir):
     """The noise of each way of sampling the sky, from benchmarks/noise.py's last run in each scene."""
     runs = {r["scene"]: r for r in kept(results, "noise")}
-    lines = ["| scene | estimator | G median | G p90 | trace, s | efficiency (escape's p90² · time over the "
-             "default's) |", "|---|---|---|---|---|---|"]
+    lines = ["| scene | estimator | G p50 | G p90 | G p99 | trace, s | efficiency (escape's p90² · time over the "
+             "default's) |", "|---|---|---|---|---|---|---|"]
     for scene, run in runs.items():
         for name, label in (("default", "nee (default)"), ("escape", "escape")):
             e = run[name]
-            ratio = f"{run['efficiency_ratio']:.2f}" if name == "default" else ""
-            lines.append(f"| {scene} | {label} | {100 * e['median_rel_se']:.2f} % | {100 * e['p90_rel_se']:.2f} % | "
-                         f"{e['trace_s']:.1f} | {ratio} |")
+            ratio = f"{run['efficiency_vs_escape']:.2f}" if name == "default" else ""
+            lines.append(f"| {scene} | {label} | {100 * e['p50_rel_se']:.2f} % | {100 * e['p90_rel_se']:.2f} % | "
+                         f"{100 * e['p99_rel_se']:.2f} % | {e['trace_s']:.1f} | {ratio} |")
     sources = [f"{scene}: the sun {100 * r['noise_sources']['sun_share']:.0f} % of the catch, its noise "
                f"{100 * r['noise_sources']['sun_rel_se']:.1f} % of it and the sky's {100 * r['noise_sources']['sky_rel_se']:.1f} %"
                for scene, r in runs.items() if "noise_sources" in r]
     commits = ", ".join(sorted({r["commit"] for r in runs.values()}))
-    return (f"*`benchmarks/noise.py` at {commits}: the worker pair, {next(iter(runs.values()))['spp']} samples, "
-            f"depth {next(iter(runs.values()))['depth']}, two seeds.*\n\n" + "\n".join(lines)
+    first = next(iter(runs.values()))
+    return (f"*`benchmarks/noise.py` at {commits}: the worker pair, {first['spp']} samples, depth {first['depth']}, "
+            f"{first['seeds']} seeds; each receptor's relative standard error of one run's catch, percentiles over "
+            "the receptors.*\n\n" + "\n".join(lines)
             + ("\n\nWhat makes the noisiest tenth's noise (the same receptors lit by the sun alone and by the sky "
                "alone): " + "; ".join(sources) + "." if sources else ""))
 

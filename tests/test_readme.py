@@ -170,12 +170,14 @@ def test_the_readme_tables_of_benchmarks_are_written_from_their_kept_runs(tmp_pa
     table = script.speed(tmp_path / "results", None)
     assert "| worker, 256, 3 | meadow (1,178,472 triangles) | 1 | 7.0–8.5 | 10.0–11.5 | 0.50 (0.70) | 2.00 |" in table
     assert "c0" not in table  # the oldest of four runs is left out
-    estimator = {"median_rel_se": 0.007, "p90_rel_se": 0.064, "trace_s": 6.6}
+    estimator = {"p50_rel_se": 0.017, "p90_rel_se": 0.064, "p99_rel_se": 0.097, "trace_s": 6.6}
     (kept / "noise.jsonl").write_text(json.dumps({
-        "commit": "c9", "scene": "meadow", "spp": 256, "depth": 3, "default": estimator, "escape": estimator,
-        "efficiency_ratio": 0.67, "noise_sources": {"sun_share": 0.75, "sun_rel_se": 0.072, "sky_rel_se": 0.017}}) + "\n")
+        "commit": "c9", "scene": "meadow", "spp": 256, "depth": 3, "seeds": 8, "default": estimator,
+        "escape": estimator, "efficiency_vs_escape": 0.67,
+        "noise_sources": {"sun_share": 0.75, "sun_rel_se": 0.072, "sky_rel_se": 0.017}}) + "\n")
     noise = script.noise(tmp_path / "results", None)
-    assert "| meadow | nee (default) | 0.70 % | 6.40 % | 6.6 | 0.67 |" in noise and "the sun 75 %" in noise
+    assert "| meadow | nee (default) | 1.70 % | 6.40 % | 9.70 % | 6.6 | 0.67 |" in noise and "the sun 75 %" in noise
+    assert "8 seeds" in noise
     logs = tmp_path / ".snakemake" / "log"
     logs.mkdir(parents=True)
     (logs / "2026-01-01T000000.snakemake.log").write_text(
