@@ -25,7 +25,8 @@ from beeoptics.headframe import SIDES, eye_azimuth_elevation
 from beeoptics.io.atomic import Terminated, sigterm_as_interrupt, stop_behind
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, rows_of, write_receptors
-from beeoptics.io.validation import CONFIG_SCHEMA, check_background, config_default, load_yaml, validate, validate_config
+from beeoptics.io.validation import (CONFIG_SCHEMA, check_background, config_default, load_yaml, validate,
+                                     validate_config)
 from beeoptics.pipeline.outputs import (COLOUR_FIGURES, FACET_OUTPUTS, FIELD_MAPS, IMAGES, VIEWER, colour_figures,
                                         retinal_images)
 
@@ -633,7 +634,8 @@ def parser():
     p.set_defaults(run=daylight)
     for command, options in SETTINGS.items():
         for option, key, kind, text in options:
-            sub.choices[command].add_argument(option, type=kind, default=config_default(key), help=f"{text} (default: %(default)s)")
+            sub.choices[command].add_argument(option, type=kind, default=config_default(key),
+                                              help=f"{text} (default: %(default)s)")
 
     p = sub.add_parser("meadow", help="generate a meadow's mesh (and its flowers) from its meadow.yaml",
                        description=meadow.__doc__)
@@ -643,7 +645,8 @@ def parser():
     p.add_argument("--flowers", metavar="CSV", type=Path, help="also write the table of its flowers: species, "
                    "the sphere about each (x_m, y_m, z_m, radius_m) and the way it faces (facing_x, _y, _z)")
     p.set_defaults(run=meadow)
-    p = sub.add_parser("convert", parents=[eyefile], help=f"convert receptors from one format to another: {FORMAT_LIST}",
+    p = sub.add_parser("convert", parents=[eyefile],
+                       help=f"convert receptors from one format to another: {FORMAT_LIST}",
                        description=convert.__doc__)
     p.add_argument("input", metavar="IN", help="receptors.csv, a CompoundRay .eye, a receptor .ply or an OCES "
                    ".gltf or .glb")

@@ -43,13 +43,13 @@ def main(argv=None):
     args = parser.parse_args(argv)
     from beeoptics.io.receptortable import read_receptors
     from beeoptics.io.table import read_table
-    from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+    from beeoptics.io.validation import config_defaults
     from beeoptics.light.batching import TraceSettings
     from beeoptics.pipeline.polarisation import polarisation_maps
     from beeoptics.vision.polarisation import analyser_ps
     from beeoptics.vision.receptorset import receptor_set_of
 
-    config = validate_config({}, CONFIG_SCHEMA, folders=False)
+    config = config_defaults()
     meadow = ROOT / "scenes" / "meadow"
     eye = ROOT / "eyes" / "worker" / "eye.yaml"
     receptors = ROOT / "results" / "eyes" / "worker" / "receptors.csv"

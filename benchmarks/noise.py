@@ -51,7 +51,7 @@ from pathlib import Path
 import numpy as np
 
 from beeoptics.io.receptortable import read_receptors
-from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.pipeline.trace import trace_receptors
@@ -79,7 +79,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.seeds < 2:
         parser.error("--seeds: at least 2, for a spread")
-    config = validate_config({}, CONFIG_SCHEMA, folders=False)
+    config = config_defaults()
     receptors = ROOT / "results" / "eyes" / args.eye / "receptors.csv"
     if not receptors.exists():
         subprocess.run([sys.executable, "-m", "beeoptics.cli", "build-eye",

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from beeoptics.io.table import read_table
-from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.io.validation import config_defaults
 from beeoptics.pipeline.trace import gather_responses
 from beeoptics.vision.receptorset import SPECIES, TEMPLATE, receptor_set_of
 
@@ -43,7 +43,7 @@ def main():
     parser.add_argument("--eye", default="worker", help="eye class (default: %(default)s)")
     parser.add_argument("--scene", default="meadow", help="a folder of scenes/ (default: %(default)s)")
     args = parser.parse_args()
-    config = validate_config({}, CONFIG_SCHEMA, folders=False)
+    config = config_defaults()
     receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")
     template, measured = (responses(args.eye, args.scene, c, config, receptor_set) for c in (TEMPLATE, SPECIES))
     lit = (template["lit"] == 1) & (measured["lit"] == 1)

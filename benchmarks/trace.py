@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from beeoptics.io.receptortable import read_receptors
-from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples
@@ -82,7 +82,7 @@ def main():
     parser.add_argument("--depth", type=int, default=3, help="scattering events per path (default: 3)")
     parser.add_argument("--seed", type=int, default=1, help="the random numbers' seed (default: %(default)s)")
     parser.add_argument("--threads", type=int, default=os.cpu_count(), help="threads (default: the cores, %(default)s)")
-    defaults = validate_config({}, CONFIG_SCHEMA, folders=False)
+    defaults = config_defaults()
     parser.add_argument("--batch-rays", type=int, default=defaults["trace"]["batch_rays"],
                         help="rays per batch (default: the config's, %(default)s)")
     args = parser.parse_args()

@@ -66,11 +66,11 @@ def disc_mesh(radius=1.0, edge=0.05):
 def build_eye_files(eye_yaml, outdir):
     """Remesh and build an eye with the default settings, as the workflow does: its output paths."""
     from beeoptics.eye.optics import AcceptanceModel
-    from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+    from beeoptics.io.validation import config_defaults
     from beeoptics.pipeline.eyes import build_facets, remesh_eye
     from beeoptics.pipeline.outputs import FACET_OUTPUTS
 
-    eye = validate_config({}, CONFIG_SCHEMA, folders=False)["eye"]
+    eye = config_defaults()["eye"]
     outdir = Path(outdir)
     outputs = {"remeshed": outdir / "remeshed.ply", **{k: outdir / name for k, name in FACET_OUTPUTS.items()}}
     remesh_eye(eye_yaml, outputs, edge_fraction=eye["edge_fraction"])

@@ -285,7 +285,8 @@ def vertical_cosines(axes_head, i, j):
     step = axes_head[j] - a
     step -= (step * a).sum(-1, keepdims=True) * a
     up = np.array([0.0, 0.0, 1.0]) - a[..., 2:3] * a
-    return np.minimum(np.abs((step * up).sum(-1)) / (np.linalg.norm(step, axis=-1) * np.linalg.norm(up, axis=-1)), 1.0)
+    lengths = np.linalg.norm(step, axis=-1) * np.linalg.norm(up, axis=-1)
+    return np.minimum(np.abs((step * up).sum(-1)) / lengths, 1.0)
 
 
 def vertical_neighbour_share(among, axes_head):

@@ -44,11 +44,12 @@ scatters on: a white base under α 0.3, η 1.5, returns 66 % of a uniform
 sky). This coupling gives that light to the base, so that a white base
 returns the sky (``benchmarks/layered.py`` compares the two, and
 Kelemen's with ρ in place of ρ', this module's until then: 44–151 % too
-bright, median over angles and albedos at α 0.05–0.6). Only the specular lobe is Mitsuba's ``roughplastic`` (and,
-polarised, ``pplastic``) lobe. Light passed through the coating is
-taken as unpolarised, as the Lambertian base leaves it. The specular lobe
-is sampled by the distribution of visible normals (Heitz 2018), whose
-density is G1(i) D(h) / (4 |n·i|) per reflected direction.
+bright, median over angles and albedos at α 0.05–0.6). Only the specular
+lobe is Mitsuba's ``roughplastic`` (and, polarised, ``pplastic``) lobe.
+Light passed through the coating is taken as unpolarised, as the
+Lambertian base leaves it. The specular lobe is sampled by the
+distribution of visible normals (Heitz 2018), whose density is
+G1(i) D(h) / (4 |n·i|) per reflected direction.
 
 References
 ----------

@@ -119,7 +119,8 @@ def first_detections(columns):
 
 
 def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, *, fps, spectral, receptor_set,
-                    target=None, background=config_default("colour.background"), receptor_curves=DEFAULT_CURVES, title=""):
+                    target=None, background=config_default("colour.background"), receptor_curves=DEFAULT_CURVES,
+                    title=""):
     """The frames of one eye's flight, gathered from the shares of :func:`trace_frames` and
     :func:`human_frames` (``frame_npzs``, ``human_npzs``, in order).
 
@@ -202,8 +203,8 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
                        "(Koenderink & van Doorn 1987), every receptor")
 
 
-def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_set, target, receptor_curves=DEFAULT_CURVES,
-                     title=""):
+def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_set, target,
+                     receptor_curves=DEFAULT_CURVES, title=""):
     """Whether, and how, an eye detects a flight's target along it, from the shares of
     :func:`trace_frames` (``frame_npzs``, in order, traced with the target).
 

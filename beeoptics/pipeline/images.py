@@ -49,8 +49,8 @@ RETINAL_CAPTIONS = {
 }
 
 
-def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_set, width_px=config_default("images.width_px"),
-                   title=""):
+def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_set,
+                   width_px=config_default("images.width_px"), title=""):
     """Voronoi, density and channel images of one eye in one scene, and the EXR of catches.
 
     The PNGs are figures: both eyes in the retinal plane in millimetres,

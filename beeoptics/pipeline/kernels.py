@@ -20,7 +20,7 @@ import yaml
 
 from beeoptics.eye.optics import AcceptanceModel
 from beeoptics.io.receptortable import read_receptors
-from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene
 from beeoptics.light.skypolarisation import patterns
@@ -73,7 +73,7 @@ def cap_mesh(radius_mm=0.8, rings=8):
 
 def compile_kernels():
     """Call every compiled kernel as the stages do, on the toy, so that numba compiles and caches each."""
-    config = validate_config({}, CONFIG_SCHEMA, folders=False)
+    config = config_defaults()
     wl = grid(**config["spectral"])
     settings = TraceSettings(4, 3, 1, config["trace"]["batch_rays"], 2)
     with tempfile.TemporaryDirectory() as tmp:

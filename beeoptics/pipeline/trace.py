@@ -155,8 +155,8 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     return (radiance, counts) if target is None else (radiance, counts, cover)
 
 
-def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, receptor_set, background=config_default("colour.background"),
-                     light=None, receptor_curves=DEFAULT_CURVES):
+def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, receptor_set,
+                     background=config_default("colour.background"), light=None, receptor_curves=DEFAULT_CURVES):
     """Catches and colour-space coordinates of every receptor: ``outputs["responses"]`` and ``["irradiance"]``.
 
     Parameters
