@@ -27,7 +27,7 @@ def main(paths):
         if shape is None:
             continue
         diameter = shape["facet_diameter_um"] * 1e-3
-        outline = field_outline(eye.facet_count, diameter)
+        outline = field_outline(eye.facet_count, diameter, eye.lattice_lines)
         vertices, faces = cornea(outline, eye.facet_count * HEXAGON_AREA * diameter**2, shape["normals_sr"],
                                  shape["vertex_spacing_mm"])
         with atomic_path(eye.mesh_path) as tmp:

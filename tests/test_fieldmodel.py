@@ -86,12 +86,12 @@ def test_seidls_ommatidia_stand_in_columns_in_the_visual_field():
     assert 0.2 <= vertical_neighbour_share(axes, axes)[middle].mean() <= 1.0 / 3.0
 
 
-def lattice_on_the_outline(count=None, diameter=0.02):
-    """A hexagonal lattice filling the outline of ``count`` facets (the model's own count by default)."""
+def lattice_on_the_outline(count=None, diameter=0.02, lines="rows"):
+    """A hexagonal lattice in ``lines`` filling the outline of ``count`` facets (the model's own count by default)."""
     count = round(fieldmodel.ommatidia_count()) if count is None else count
-    outline = field_outline(count, diameter)
+    outline = field_outline(count, diameter, lines)
     pitch = diameter
-    points = hex_grid(pitch, outline.min(0), outline.max(0))
+    points = hex_grid(pitch, outline.min(0), outline.max(0), lines=lines)
     from matplotlib.path import Path as Polygon
 
     points = points[Polygon(outline).contains_points(points)]
@@ -117,6 +117,31 @@ def test_the_axis_map_fills_the_measured_field_in_order():
     angle = np.degrees(np.arccos(np.clip((axes[pairs[:, 0]] * axes[pairs[:, 1]]).sum(1), -1, 1)))
     model = fieldmodel.delta_phi_horizontal(azimuth[pairs[:, 0]], elevation[pairs[:, 0]])
     assert np.median(angle / model) == pytest.approx(1.0, abs=0.1)
+
+
+@pytest.mark.parametrize("lines", ["rows", "columns"])
+def test_a_lattice_keeps_seidls_angles_on_the_outline_laid_for_its_lines(lines):
+    """Seidl's Δφ_v is a step along a column of the model, Δφ_h one along a row: lenses in rows hold them on
+    an outline twice as tall as wide, as bee eyes are (Jander & Jander 2002), lenses in columns only on one
+    wider than tall."""
+    from scipy.spatial import Delaunay
+
+    from beeoptics.eye.lattice import triangle_edges
+    from beeoptics.eye.quality import anisotropy
+
+    outline, points, pitch = lattice_on_the_outline(lines=lines)
+    rotation = eye_rotation(90.0, 0.0)
+    axes = field_axes(rotation, points, np.ones(len(points)), points, pitch) @ rotation
+    edges = triangle_edges(Delaunay(points[:, :2]).simplices)
+    edges = edges[np.linalg.norm(points[edges[:, 1]] - points[edges[:, 0]], axis=1) < 1.05 * pitch]
+    shape = anisotropy(points, axes, edges, rotation, lines)
+    assert shape["delta_phi_h_deg"]["median_ratio"] == pytest.approx(1.0, abs=0.1)
+    assert shape["delta_phi_v_deg"]["median_ratio"] == pytest.approx(1.0, abs=0.1)
+    aspect = np.ptp(outline[:, 1]) / np.ptp(outline[:, 0])
+    assert aspect == pytest.approx(2.0, rel=0.2) if lines == "rows" else aspect < 1.0
+    # Only in columns do a lens's neighbours above and below look straight above and below it.
+    lenses = shape["vertical_neighbours"]["lenses"]["equator"]
+    assert lenses >= 0.15 if lines == "columns" else lenses < 0.05
 
 
 def test_the_cornea_has_the_facets_area_and_normals_spread():

@@ -1,15 +1,20 @@
 """Hand-made eye surfaces shaped from measurements: the outline the measured field implies, and a curved cornea.
 
 An eye whose axes follow the field model (:mod:`beeoptics.eye.axismodel`)
-keeps its measured interommatidial angles only where its rows of facets
-hold as many facets as the model's rows hold ommatidia. The outline is
+keeps its measured interommatidial angles only where its lines of facets
+hold as many facets as the model's lines hold ommatidia. The outline is
 therefore drawn from the model itself: its rows of ommatidia
 (:mod:`beeoptics.eye.fieldmodel`), laid out as a hexagonal lattice of
-facets of the eye's mean diameter — rows √3/2 of a facet apart, each row
-as long as its ommatidia side by side, the frontal meridian (azimuth 0)
-on one line — and scaled to the eye's published facet count. Its length,
-width and area then follow from the facet count and diameters, and are
-compared with the published ones in ``quality.json``.
+facets of the eye's mean diameter D, the frontal meridian (azimuth 0) on
+one line, and scaled to the eye's published facet count. A lattice in rows
+(the eye's ``lattice.lines``) takes each of the model's rows as a row of
+facets, rows √3/2·D apart and each as long as its ommatidia side by side;
+a lattice in columns takes each column of the model, its ommatidia Δφ_v
+apart, as a column of adjacent facets, so that the model's rows, Δφ_v/2
+apart, lie D/2 apart and an ommatidium of a row takes √3·D of it (two
+columns √3/2·D apart). Its length, width and area then follow from the
+facet count and diameters, and are compared with the published ones in
+``quality.json``.
 
 The cornea is a paraboloid over that outline, bulging along the eye's
 local +z, whose vertical radius of curvature is 2.5 times its horizontal
@@ -39,23 +44,40 @@ CURVATURE_RATIO = 2.5
 RIM_SMOOTHING_FACETS = 2.0
 #: Hexagonal facets of diameter D (flat to flat) each cover √3/2·D².
 HEXAGON_AREA = np.sqrt(3.0) / 2.0
+#: Where the model's rows of ommatidia lie in a hexagonal lattice of facets of diameter 1, by how its
+#: lenses line up: the step from one row to the next, and the length each ommatidium takes of its row.
+#: In rows, a row of adjacent facets per row; in columns, rows half a facet apart and each ommatidium
+#: two columns' width of its row.
+ROW_LAYOUT = {"rows": (np.sqrt(3.0) / 2.0, 1.0), "columns": (0.5, np.sqrt(3.0))}
 
 
-def field_outline(count, facet_diameter_mm, samples=200):
-    """The outline of an eye whose rows hold the field model's ommatidia, (k, 2) in (anterior, dorsal), mm.
+def field_outline(count, facet_diameter_mm, lines="rows", samples=200):
+    """The outline of an eye whose lines of facets hold the field model's ommatidia, (k, 2) in (anterior, dorsal), mm.
 
     Lengths are along the cornea. The polygon runs up the anterior edge and
     back down the posterior one.
+
+    Parameters
+    ----------
+    count : int
+        Facets of the eye.
+    facet_diameter_mm : float
+        Their mean diameter, flat to flat, mm.
+    lines : {"rows", "columns"}
+        How the lenses line up (the eye's ``lattice.lines``).
+    samples : int
+        Elevations the border is read at.
     """
     # From pole to pole: the field's band and the caps beyond, where its rows close round.
     elevation = np.linspace(-90.0, 90.0, samples)
     scale = np.sqrt(count / fieldmodel.ommatidia_count())
     rows = np.concatenate([[0.0], np.cumsum(np.diff(elevation) * 0.5 * (
         fieldmodel.rows_per_degree(elevation[1:]) + fieldmodel.rows_per_degree(elevation[:-1])))])
-    dorsal = rows * HEXAGON_AREA * facet_diameter_mm * scale
+    row_step, along_row = ROW_LAYOUT[lines]
+    dorsal = rows * row_step * facet_diameter_mm * scale
     medial = fieldmodel.ommatidia_medial_of(0.0, elevation)
-    anterior = medial * facet_diameter_mm * scale
-    posterior = (medial - fieldmodel.row_count(elevation)) * facet_diameter_mm * scale
+    anterior = medial * along_row * facet_diameter_mm * scale
+    posterior = (medial - fieldmodel.row_count(elevation)) * along_row * facet_diameter_mm * scale
     outline = np.vstack([np.column_stack([anterior, dorsal]), np.column_stack([posterior, dorsal])[::-1]])
     # Resampled evenly and smoothed over a few facets, so that no corner of the rim is narrower
     # than the lattice can fill (the border's ends, where it closes round the pole, are abrupt).
