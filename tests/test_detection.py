@@ -5,11 +5,13 @@ import pytest
 import yaml
 
 from beeoptics.headframe import head_rotation
+from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.table import read_table, write_table
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.light.sky import horizontal_irradiance
-from beeoptics.pipeline.detection import approach_poses, detect_views
+from beeoptics.pipeline.detection import approach_poses, detect_views, summarise
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background, unmix
@@ -19,8 +21,10 @@ from conftest import ROOT, build_eye_files
 YMAZE = ROOT / "tests" / "data" / "scenes" / "ymaze" / "scene.yaml"
 #: The stand-in maze's geometry (its scene.yaml): the wall 0.20 m ahead, level with the bee.
 WALL_M, EYE_HEIGHT_M = 0.2, 0.1
-#: The angles either side of Giurfa et al.'s (1996) two thresholds, 5° and 15°.
-ANGLES_DEG = (4.0, 6.5, 13.5, 16.5)
+#: The angles either side of the rule's two thresholds straight ahead: Giurfa et al.'s frontal 4.0 ± 0.5° (1999;
+#: 2.9° is beyond 1.96 of its errors) and 15° (1996).
+ANGLES_DEG = (2.9, 6.5, 13.5, 16.5)
+AHEAD, BELOW, ABOVE = [1.0, 0.0, 0.0], [0.3, 0.0, -1.0], [0.3, 0.0, 1.0]
 BEE = load_receptor_set("apis_mellifera")
 
 
@@ -43,17 +47,25 @@ def test_the_local_background_is_the_untouched_ring_round_the_target():
     np.testing.assert_array_equal(np.abs(degrees[ring]), [5, 4, 4, 5])
 
 
-@pytest.mark.parametrize("alpha, green, achromatic, chromatic", [
-    (4.9, 1.3, 0, 0), (5.1, 1.3, 1, 0), (5.1, 1.0, 0, 0), (14.9, 1.0, 0, 0), (15.1, 1.0, 0, 1), (15.1, 1.3, 1, 1)])
-def test_the_rule_holds_from_its_angles_with_its_contrasts(alpha, green, achromatic, chromatic):
-    # A target of colour contrast (UV and B far from the background) with the green catch ``green``
-    # times the background's; the honey bee's G noise 0.12 makes 1.3 a green contrast, 1.0 none.
+def target_on_grey(green):
+    """Catches of ten background receptors and four covered by a target of colour contrast (UV and B far from
+    the background) with the green catch ``green`` times the background's, and the cover."""
     background = np.ones(3)
     target = np.array([2.0, 0.5, green])
     cover = np.r_[np.zeros(10), np.ones(4)]
-    catches = np.vstack([np.tile(background, (10, 1)), np.tile(target, (4, 1))])
-    row = detect(catches, cover, cover == 0, alpha, BEE)
+    return np.vstack([np.tile(background, (10, 1)), np.tile(target, (4, 1))]), cover
+
+
+@pytest.mark.parametrize("alpha, green, achromatic, chromatic, unsure", [
+    (2.9, 1.3, 0, 0, 0), (3.9, 1.3, 0, 0, 1), (5.1, 1.3, 1, 0, 0), (5.1, 1.0, 0, 0, 0), (14.9, 1.0, 0, 0, 0),
+    (15.1, 1.0, 0, 1, 0), (15.1, 1.3, 1, 1, 0)])
+def test_the_rule_holds_from_its_angles_with_its_contrasts(alpha, green, achromatic, chromatic, unsure):
+    # The honey bee's G noise 0.12 makes 1.3 a green contrast, 1.0 none; straight ahead, the frontal
+    # 4.0 ± 0.5° (Giurfa et al. 1999): 3.9° within 1.96 of its error, so noise could flip the verdict.
+    catches, cover = target_on_grey(green)
+    row = detect(catches, cover, cover == 0, alpha, AHEAD, BEE)
     assert (row["achromatic_detectable"], row["chromatic_detectable"]) == (achromatic, chromatic)
+    assert (row["achromatic_uncertain"], row["chromatic_uncertain"]) == (unsure, 0)
     assert row["green_dS"] == pytest.approx(abs(np.log(green)) / 0.12)
     assert row["green_contrast"] == pytest.approx(green / (green + 1) - 0.5)
     assert row["receptors_covered"] == 4 and row["receptors_colour_above_threshold"] == 4
@@ -62,9 +74,45 @@ def test_the_rule_holds_from_its_angles_with_its_contrasts(alpha, green, achroma
 def test_without_a_rule_the_contrasts_come_without_verdicts():
     fly = load_receptor_set("drosophila_melanogaster")
     q = np.vstack([np.ones((6, 5)), np.full((2, 5), 2.0)])
-    row = detect(q, np.r_[np.zeros(6), np.ones(2)], np.r_[np.ones(6, bool), np.zeros(2, bool)], 10.0, fly)
+    row = detect(q, np.r_[np.zeros(6), np.ones(2)], np.r_[np.ones(6, bool), np.zeros(2, bool)], 10.0, AHEAD, fly)
     assert row["green_contrast"] == pytest.approx(2 / 3 - 0.5)
     assert np.isnan(row["achromatic_detectable"]) and np.isnan(row["rnl_dS"])
+
+
+@pytest.mark.parametrize("direction, angle, se", [(AHEAD, 4.0, 0.5), (BELOW, 7.1, 0.5), (ABOVE, 8.2, 0.6)])
+def test_the_region_table_gives_the_threshold_where_the_target_falls(direction, angle, se):
+    # Giurfa, Zaccardi & Vorobyev (1999): frontal, ventral and dorsal; colour contrast alone keeps 15°.
+    catches, cover = target_on_grey(1.3)
+    row = detect(catches, cover, cover == 0, 10.0, direction, BEE)
+    assert (row["achromatic_min_angle_deg"], row["se_achromatic_min_angle_deg"]) == (angle, se)
+    assert (row["chromatic_min_angle_deg"], row["se_chromatic_min_angle_deg"]) == (15.0, 0.0)
+    assert row["achromatic_detectable"] == 1
+
+
+def test_noise_that_reaches_the_threshold_flags_the_verdict():
+    # A green contrast of 2.2 noise units (ln 1.3 / 0.12), 1.2 above its threshold; eight replicates in which
+    # the target's G catch is e^±s times its mean, half each way: certain at s = 1 %, not at s = 50 %.
+    catches, cover = target_on_grey(1.3)
+    rows, expected = {}, {}
+    for s in (0.01, 0.5):
+        replicates = np.repeat(catches[:, None], 8, 1)
+        replicates[cover > 0, :, 2] *= np.exp(np.tile([s, -s], 4))
+        rows[s] = detect(catches, cover, cover == 0, 10.0, AHEAD, BEE, replicate_catches=replicates)
+        expected[s] = np.std(np.abs(np.log(1.3) + np.tile([s, -s], 4)) / 0.12, ddof=1) / np.sqrt(8)
+    assert [rows[s]["se_green_dS"] for s in rows] == pytest.approx(list(expected.values()))
+    assert [rows[s]["achromatic_detectable"] for s in rows] == [1, 1]
+    assert [rows[s]["achromatic_uncertain"] for s in rows] == [0, 1]
+    assert rows[0.01]["green_dS"] == pytest.approx(np.log(1.3) / 0.12)
+
+
+def test_region_bands_must_cover_every_elevation(tmp_path):
+    doc = yaml.safe_load(BEE.path.read_text())
+    doc["curves"]["file"] = str(BEE.curves_file)
+    doc["detection"]["achromatic"]["regions"][0]["elevation_deg"] = [-90, -50]
+    path = tmp_path / "bee.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    with pytest.raises(InputError, match="regions"):
+        load_receptor_set(str(path))
 
 
 def test_approach_poses_face_the_flower_along_a_descending_line():
@@ -133,7 +181,7 @@ def report(capsys, stimulus, rows):
                   f"{r['receptors_colour_above_threshold']}")
 
 
-def test_in_the_maze_a_disc_with_green_contrast_is_detected_from_5_degrees(tmp_path, worker, capsys):
+def test_in_the_maze_a_disc_with_green_contrast_is_detected_from_the_frontal_4_degrees(tmp_path, worker, capsys):
     yellow = yaml.safe_load(YMAZE.read_text())["materials"]["yellow"]
     rows = {a: at_the_decision_point(tmp_path, worker, yellow, a) for a in ANGLES_DEG}
     report(capsys, "green and colour contrast", rows)
@@ -152,3 +200,23 @@ def test_in_the_maze_a_disc_of_colour_contrast_alone_is_detected_from_15_degrees
     assert [rows[a]["achromatic_detectable"] for a in ANGLES_DEG] == [0, 0, 0, 0]
     assert [rows[a]["chromatic_detectable"] for a in ANGLES_DEG] == [0, 0, 0, 1]
     assert all(r["green_dS"] < 1 < r["rnl_dS"] for r in rows.values())
+
+
+def test_the_summary_gives_each_rule_distance_with_its_interval(tmp_path):
+    # Three approaches of one species: first distances with their near and far ends (one never detected).
+    first = {"achromatic": ([0.4, 0.2, np.nan], [0.3, 0.1, np.nan], [0.5, 0.3, 0.1]),
+             "chromatic": ([0.1, 0.05, 0.02], [0.1, 0.04, 0.02], [0.12, 0.05, 0.03])}
+    table = {"species": ["daisy"] * 3}
+    for name, (mid, near, far) in first.items():
+        table.update({f"first_{name}_m": np.array(mid), f"first_{name}_near_m": np.array(near),
+                      f"first_{name}_far_m": np.array(far)})
+    table.update(first_receptor_green_m=np.array([1.0, 2.0, 3.0]), first_receptor_colour_m=np.array([1.0, 1.0, 1.0]))
+    write_table(tmp_path / "approaches.csv", table)
+    out = {"summary": tmp_path / "summary.csv", "figure": tmp_path / "detection.png"}
+    summarise({"worker": tmp_path / "approaches.csv"}, out, scene="test")
+    row = {k: v[0] for k, v in read_table(out["summary"], text=("species", "eye")).items()}
+    assert row["achromatic_share"] == pytest.approx(2 / 3)
+    assert (row["achromatic_median_near_m"], row["achromatic_median_m"], row["achromatic_median_far_m"]) == \
+        pytest.approx((0.2, 0.3, 0.3))
+    assert (row["chromatic_p90_near_m"], row["chromatic_p90_far_m"]) == pytest.approx((0.088, 0.106))
+    assert "receptor_green_median_near_m" not in row and out["figure"].is_file()

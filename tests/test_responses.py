@@ -1,14 +1,18 @@
 """responses.csv's colour columns follow from its own catch columns, as the README states."""
 
+import re
+
 import numpy as np
 import pytest
 
-from beeoptics.io.receptortable import COLUMNS
+from beeoptics.io.receptortable import COLUMNS, read_receptors
 from beeoptics.io.table import read_table, write_table
-from beeoptics.pipeline.trace import gather_responses
+from beeoptics.light.scene import load_scene
+from beeoptics.pipeline.trace import gather_responses, respond
 from beeoptics.spectra import grid
+from beeoptics.vision.colourspace import excitation
 from beeoptics.vision.receptorset import brightness_weights, curves, load_receptor_set
-from conftest import DATA
+from conftest import DATA, ROOT
 
 SPECTRAL = {"start_nm": 300, "end_nm": 700, "step_nm": 10}
 FLOWER = DATA / "scenes" / "flower" / "scene.yaml"
@@ -69,3 +73,46 @@ def test_the_colour_columns_follow_from_the_tables_own_catches(tmp_path, species
     for name, values in expect.items():
         # The table's nine significant digits.
         np.testing.assert_allclose(np.asarray(table[name], float), values, rtol=1e-7, atol=1e-7, err_msg=name)
+
+
+def test_with_replicate_catches_each_colour_column_has_its_standard_error_beside_it(tmp_path):
+    rs = load_receptor_set("apis_mellifera")
+    table, _, wl = _responses(tmp_path, rs, "scene")
+    receptors, scene = read_receptors(tmp_path / "receptors.csv"), load_scene(FLOWER, wl, geometry=False)
+    radiance = np.load(tmp_path / "part.npz")["radiance"]
+    q = np.column_stack([table[c] for c in rs.classes]).astype(float)
+    # Synthetic replicates: the catches times 5 % lognormal noise, eight a receptor.
+    replicates = q[:, None] * np.random.default_rng(4).lognormal(0.0, 0.05, (len(q), 8, 3))
+    plain, _ = respond(receptors, radiance, scene, wl, FLOWER, receptor_set=rs)
+    columns, _ = respond(receptors, radiance, scene, wl, FLOWER, receptor_set=rs, replicate_catches=replicates)
+    colour = [c for c in plain if c not in ("id", "side", "acceptance_sr", "brightness", "lit", *rs.classes)]
+    names = list(columns)
+    for c in colour:
+        np.testing.assert_array_equal(columns[c], plain[c])
+        assert names[names.index(c) + 1] == f"se_{c}", c
+    assert not any(c.startswith("se_") for c in plain)
+    # The replicate estimate with the table's own background for every replicate.
+    omega = table["acceptance_sr"][:, None]
+    reference = np.nanmean(q / omega, axis=0)
+    e = excitation(replicates / omega[:, None] / reference)
+    x = np.sqrt(3) / 2 * (e[..., 2] - e[..., 0])
+    lit = (q > 0).any(1)
+    np.testing.assert_allclose(columns["se_hex_x"][lit], x[lit].std(1, ddof=1) / np.sqrt(8), rtol=1e-7)
+    # The hue's error on the circle: small where the receptor is coloured, whichever side of 0° it lies.
+    coloured = lit & (columns["hex_r"] > 0.1)
+    assert (columns["se_hex_hue_deg"][coloured] < 20.0).all()
+
+
+def test_the_readme_names_every_column_of_responses_csv(tmp_path):
+    rs = load_receptor_set("apis_mellifera")
+    table, _, wl = _responses(tmp_path, rs, "scene")
+    receptors, scene = read_receptors(tmp_path / "receptors.csv"), load_scene(FLOWER, wl, geometry=False)
+    q = np.column_stack([table[c] for c in rs.classes]).astype(float)
+    columns, _ = respond(receptors, np.load(tmp_path / "part.npz")["radiance"], scene, wl, FLOWER, receptor_set=rs,
+                         replicate_catches=np.repeat(q[:, None], 2, 1))
+    text = (ROOT / "README.md").read_text()
+    entry = text[text.index("responses.csv       per receptor"):text.index("    parts/ ")]
+    for name in columns:
+        # A class's columns are named once for all classes: q_UV, q_B, q_G as q_*.
+        generic = re.sub(rf"_({'|'.join(rs.classes)})$", "_*", name)
+        assert re.search(rf"\b{re.escape(name)}\b|{re.escape(generic)}", entry), name

@@ -9,6 +9,9 @@ from beeoptics.images.headless import WINDOW, chromium, open_page
 from beeoptics.io.errors import InputError
 from beeoptics.io.imagefile import read_image
 from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.table import read_table, write_table
+from beeoptics.pipeline.images import viewer
+from beeoptics.vision.receptorset import load_receptor_set
 
 try:
     chromium()
@@ -110,3 +113,25 @@ def test_a_viewer_written_again_is_the_same_bytes(workdir, tmp_path):
                results / "tiny" / "flower" / "irradiance.npz", {"viewer": pages[-1]},
                receptor_set=receptor_set_of(workdir / "eyes" / "tiny" / "eye.yaml"), title="tiny in flower")
     assert pages[0].read_bytes() == pages[1].read_bytes()
+
+
+@needs_chromium
+def test_with_standard_errors_the_hover_gives_each_catch_plus_or_minus_its_error(workdir, tmp_path):
+    run = workdir / "results" / "tiny" / "flower"
+    table = read_table(run / "responses.csv", text=["side"])
+    # The table as a trace with replicates writes it: each catch's and each colour column's error beside it.
+    for name in ("UV", "B", "G", "hex_x"):
+        table[f"se_{name}"] = 0.0123 * np.abs(np.asarray(table[name], float))
+    write_table(tmp_path / "responses.csv", table)
+    page = tmp_path / "tiny" / "flower" / "viewer.html"
+    page.parent.mkdir(parents=True)
+    viewer(workdir / "results" / "eyes" / "tiny" / "receptors.csv", tmp_path / "responses.csv",
+           run / "irradiance.npz", {"viewer": page}, receptor_set=load_receptor_set("apis_mellifera"))
+    receptors = read_receptors(workdir / "results" / "eyes" / "tiny" / "receptors.csv")
+    k = int(np.argmax(table["UV"]))
+    _, _, html = check_drawn_offline(page, tmp_path, f"#receptor={receptors.id[k]}", dom=True)
+    label = " ".join(re.findall(r"<tspan[^>]*>([^<]*)</tspan>", html))
+    for name in ("UV catch", "B catch", "G catch", "hex_x"):
+        assert re.search(rf"{name} \S+ ± \S+", label), (name, label[:800])
+    # Only those: a column without its error shows the number alone.
+    assert label.count("±") == 4 and "rnl_dS" in label, label[:800]

@@ -584,7 +584,7 @@ def allometry(rows, path, species="Bombus terrestris"):
 
 def detection_distances(tables, path, scene=""):
     """From how far each eye detects each species' flowers: one panel per eye, the achromatic and the
-    chromatic criterion's first distances per approach, by species, log scale.
+    chromatic criterion's first distances per approach with their intervals, by species, log scale.
 
     Parameters
     ----------
@@ -598,9 +598,15 @@ def detection_distances(tables, path, scene=""):
         names = sorted(set(species))
         for k, s in enumerate(names):
             for shift, (column, colour, label) in zip((-0.15, 0.15), (
-                    ("first_achromatic_m", "tab:green", "green + colour contrast (≥ 5°)"),
-                    ("first_chromatic_m", "tab:purple", "colour contrast alone (≥ 15°)"))):
-                d = np.asarray(t[column], float)[species == s]
+                    ("first_achromatic", "tab:green", "green + colour contrast"),
+                    ("first_chromatic", "tab:purple", "colour contrast alone"))):
+                mine = species == s
+                # Each approach's 95 % interval: between the first distances at which noise could not
+                # flip the verdict and at which it could make it.
+                near, far = (np.asarray(t[f"{column}_{end}_m"], float)[mine] for end in ("near", "far"))
+                ax.vlines(np.full(mine.sum(), k + shift), np.where(np.isfinite(near), near, far), far, color=colour,
+                          linewidth=0.6, alpha=0.5)
+                d = np.asarray(t[f"{column}_m"], float)[mine]
                 d = d[np.isfinite(d)]
                 if d.size:
                     ax.plot(np.full(d.size, k + shift), d, "o", ms=3, color=colour, alpha=0.6,
@@ -616,8 +622,9 @@ def detection_distances(tables, path, scene=""):
         ax.grid(axis="y", color="0.85", linewidth=0.5)
         ax.legend(fontsize=6, frameon=False, loc="upper right")
     axes[0].set_ylabel("detection distance, m (first approaching)")
-    fig.suptitle(textwrap.fill(f"{scene}: from how far the bee first detects each flower (Giurfa et al. 1996's "
-                               "rule, as the traced receptors saw the flower against its surround); bars: medians",
+    fig.suptitle(textwrap.fill(f"{scene}: from how far the bee first detects each flower (Giurfa et al.'s rule, "
+                               "1996, its angles by eye region, 1999, as the traced receptors saw the flower "
+                               "against its surround); bars: medians; lines: each approach's 95 % interval",
                                55 * max(1, len(tables))), fontsize=8)
     save(fig, path)
 
@@ -643,10 +650,10 @@ def flight_detection(columns, first, rule, path, title):
     contrast.plot(d, columns["green_dS"], color="tab:green", label="green contrast, receptor noise units")
     contrast.plot(d, columns["rnl_dS"], color="tab:purple", label="colour distance ΔS (RNL)")
     if rule is not None:
+        # The rule's angles where the target falls, by eye region where the rule gives them so.
         for criterion, colour in (("achromatic", "tab:green"), ("chromatic", "tab:purple")):
-            spec = rule[criterion]
-            size.axhline(spec["min_visual_angle_deg"], color=colour, linestyle=":", linewidth=1,
-                         label=f"{criterion}: {spec['min_visual_angle_deg']:g}°")
+            size.plot(d, columns[f"{criterion}_min_angle_deg"], color=colour, linestyle=":", linewidth=1,
+                      label=f"{criterion}: its smallest angle")
         contrast.axhline(rule["chromatic"]["contrast"]["threshold"], color="0.5", linestyle=":", linewidth=1,
                          label="threshold, 1 JND")
     for name, colour, label in (("achromatic_detectable", "tab:green", "first detected: green + colour"),

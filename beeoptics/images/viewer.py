@@ -102,8 +102,9 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
     receptors : ReceptorTable
     colours : dict of str to ndarray (n, 3)
         Display sRGB in [0, 1] of every receptor per colouring ("map3", "UV", …, "map2"), the first shown.
-    hover : dict of str to ndarray (n,)
-        The numbers shown on hovering a receptor, by label (units in the label).
+    hover : dict of str to ndarray (n,) or to (ndarray (n,), ndarray (n,))
+        The numbers shown on hovering a receptor, by label (units in the label); a pair is a number
+        and its standard error, shown as value ± error.
     colour_space : dict, optional
         ``x``, ``y`` (n,) of every receptor, ``outline`` (k, 2), ``locus`` (m, 2) with ``locus_label``,
         ``name``: the species' colour space, linked to the map.
@@ -122,12 +123,15 @@ def receptor_viewer(path, receptors, colours, hover, title, caption, colour_spac
     hexes = {k: _hex(v) for k, v in colourings.items()}
     first = next(iter(hexes))
     eye = np.where(np.asarray(receptors.side).astype(str) == RIGHT, "right", "left")
-    labels = list(hover)
-    # float32: the hover shows four significant figures.
-    custom = np.column_stack([receptors.id, az, el, *[np.asarray(hover[k], float) for k in labels]]).astype(np.float32)
+    values, lines = [receptors.id, az, el], []
+    for label, v in hover.items():
+        lines.append(f"{label} %{{customdata[{len(values)}]:.4g}}"
+                     + (f" ± %{{customdata[{len(values) + 1}]:.2g}}" if isinstance(v, tuple) else ""))
+        values += [np.asarray(x, float) for x in (v if isinstance(v, tuple) else (v,))]
+    # float32: the hover shows four significant figures, an error two.
+    custom = np.column_stack(values).astype(np.float32)
     template = ("receptor %{customdata[0]:.0f}, %{text} eye<br>azimuth %{customdata[1]:.1f}°, "
-                "elevation %{customdata[2]:.1f}°<br>"
-                + "<br>".join(f"{k} %{{customdata[{i + 3}]:.4g}}" for i, k in enumerate(labels)) + "<extra></extra>")
+                "elevation %{customdata[2]:.1f}°<br>" + "<br>".join(lines) + "<extra></extra>")
     specs = [[{"type": "xy", "colspan": 2}, None], [{"type": "geo"}, {"type": "xy"}]]
     fig = make_subplots(rows=2, cols=2, specs=specs, row_heights=[0.55, 0.45], vertical_spacing=0.08,
                         subplot_titles=("the visual field, both eyes (azimuth + to the bee's left)",

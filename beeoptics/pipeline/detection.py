@@ -38,6 +38,10 @@ from beeoptics.world.meadow import FLOWER_COLUMNS
 #: measure's (at least one receptor's own contrast at the criterion's threshold).
 FIRST = {"achromatic_m": "achromatic_detectable", "chromatic_m": "chromatic_detectable",
          "receptor_green_m": "receptors_green_above_threshold", "receptor_colour_m": "receptors_colour_above_threshold"}
+#: The verdicts whose first distance comes with an interval, and the flag that noise could flip each: the
+#: first distance lies between the first at which the verdict holds and noise could not flip it (near) and
+#: the first at which it holds or noise could make it (far).
+FLAGS = {"achromatic_m": "achromatic_uncertain", "chromatic_m": "chromatic_uncertain"}
 
 
 def sample_flowers(flowers, per_species, seed):
@@ -73,7 +77,9 @@ def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectra
     flower and direction, with the first distance at which each criterion
     holds (``first_achromatic_m``, ``first_chromatic_m``, and the
     receptor-level ``first_receptor_green_m``, ``first_receptor_colour_m``;
-    empty where it never does).
+    empty where it never does), the rule's with their intervals
+    (``first_achromatic_near_m``, ``first_achromatic_far_m``, the same for
+    chromatic: :data:`FLAGS`).
 
     Parameters
     ----------
@@ -109,10 +115,13 @@ def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectra
             rows = _approach(scene, rs, table, sens, wl, absent, settings, receptor_set, centre, radius, azimuth,
                              survey["descent_deg"], distances, count * survey["directions"] + k)
             views += [{**about, "azimuth_deg": azimuth, "distance_m": d, **r} for d, r in zip(distances, rows)]
-            first = {}
-            for name, column in FIRST.items():
-                hits = [d for d, r in zip(distances, rows) if r[column] >= 1]
-                first[f"first_{name}"] = hits[0] if hits else np.nan
+            first = {f"first_{name}": _first(distances, [r[column] >= 1 for r in rows])
+                     for name, column in FIRST.items()}
+            for name, flag in FLAGS.items():
+                holds, unsure = [r[FIRST[name]] >= 1 for r in rows], [r[flag] >= 1 for r in rows]
+                base = f"first_{name.removesuffix('_m')}"
+                first[f"{base}_near_m"] = _first(distances, [h and not u for h, u in zip(holds, unsure)])
+                first[f"{base}_far_m"] = _first(distances, [h or u for h, u in zip(holds, unsure)])
             approaches.append({**about, "x_m": centre[0], "y_m": centre[1], "z_m": centre[2], "radius_m": radius,
                                "azimuth_deg": azimuth, "descent_deg": survey["descent_deg"], **first})
     log.info("%s: %d flowers approached from %d directions, %d distances each", eye_file, len(chosen),
@@ -123,6 +132,12 @@ def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectra
     write_table(outputs["approaches"], {c: [a[c] for a in approaches] if c in text else
                                         np.array([a[c] for a in approaches], float) for c in approaches[0]}
                 if approaches else {"species": []})
+
+
+def _first(distances, holds):
+    """The first of ``distances`` (farthest first) at which ``holds``, NaN where it never does."""
+    hits = [d for d, h in zip(distances, holds) if h]
+    return hits[0] if hits else np.nan
 
 
 def _approach(scene, rs, table, sens, wl, absent, settings, receptor_set, centre, radius, azimuth, descent,
@@ -186,7 +201,8 @@ def detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, cen
         angular_radius = np.degrees(np.arcsin(min(1.0, radius / distances[j])))
         # The target's direction from each receptor: the receptors of both eyes differ by a few mm.
         ring = local_background(axes[j], cover[part], toward[j], angular_radius, drho[rows], dphi[rows])
-        out.append(detect(catches[part], cover[part], ring, 2.0 * angular_radius, receptor_set))
+        out.append(detect(catches[part], cover[part], ring, 2.0 * angular_radius,
+                          rotations[j].T @ (centre - positions[j]), receptor_set))
     return out
 
 
@@ -200,7 +216,9 @@ def summarise(approaches, outputs, *, scene=""):
 
     ``summary`` has a row per species and eye: the approaches, the share of
     them in which each criterion held at some distance, and the median,
-    10th and 90th percentiles of the first distances where it did.
+    10th and 90th percentiles of the first distances where it did; for the
+    rule's verdicts each with its 95 % interval, the same percentile of the
+    approaches' near and far ends (``_near_m``, ``_far_m``: :data:`FLAGS`).
     """
     rows, tables = [], {}
     for eye, path in approaches.items():
@@ -211,11 +229,15 @@ def summarise(approaches, outputs, *, scene=""):
             mine = species == s
             row = {"species": s, "eye": eye, "approaches": int(mine.sum())}
             for name in FIRST:
+                base = name.removesuffix("_m")
                 d = np.asarray(t[f"first_{name}"], float)[mine]
-                seen = d[np.isfinite(d)]
-                row[f"{name.removesuffix('_m')}_share"] = seen.size / d.size
+                row[f"{base}_share"] = np.isfinite(d).sum() / d.size
+                ends = ("", "_near", "_far") if name in FLAGS else ("",)
                 for label, q in (("median", 50), ("p10", 10), ("p90", 90)):
-                    row[f"{name.removesuffix('_m')}_{label}_m"] = float(np.percentile(seen, q)) if seen.size else np.nan
+                    for end in ends:
+                        seen = np.asarray(t[f"first_{base}{end}_m"], float)[mine]
+                        seen = seen[np.isfinite(seen)]
+                        row[f"{base}_{label}{end}_m"] = float(np.percentile(seen, q)) if seen.size else np.nan
             rows.append(row)
     text = ("species", "eye")
     write_table(outputs["summary"], {c: [r[c] for r in rows] if c in text else np.array([r[c] for r in rows], float)

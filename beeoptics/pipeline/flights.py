@@ -244,7 +244,7 @@ def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_s
                                     table.delta_phi_deg)
             rows.append({"frame": k, "t_s": float(share["time_s"][j]),
                          "distance_m": float(np.linalg.norm(centre - position)),
-                         **detect(catches, cover, ring, alpha, receptor_set)})
+                         **detect(catches, cover, ring, alpha, rotation.T @ (centre - position), receptor_set)})
             k += 1
     columns = {c: np.array([r[c] for r in rows], float) for c in rows[0]}
     write_table(outputs["detection"], columns)

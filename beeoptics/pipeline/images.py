@@ -212,12 +212,16 @@ def viewer(receptors_csv, responses_csv, irradiance_npz, outputs, *, receptor_se
     for k, name in enumerate(receptor_set.classes):
         shown[name] = np.repeat(np.clip(relative[:, k:k + 1], 0.0, 1.0), 3, axis=1)
     shown["map2"] = srgb
+    # A number with its standard error where the table gives one (se_<column>), shown as value ± error.
+    def with_error(name, values):
+        return (values, np.asarray(resp[f"se_{name}"], float)) if f"se_{name}" in resp else values
+
     hover = {"Δφ, °": table.delta_phi_deg, "Δρ, °": table.delta_rho_deg, "facet, µm": table.facet_diameter_um,
-             **{f"{c} catch": catches[:, k] for k, c in enumerate(receptor_set.classes)},
+             **{f"{c} catch": with_error(c, catches[:, k]) for k, c in enumerate(receptor_set.classes)},
              **{f"{c} ÷ white's": relative[:, k] for k, c in enumerate(receptor_set.classes)}}
     for name in ("hex_x", "hex_y", "rnl_dS"):
         if name in resp:
-            hover[name] = resp[name]
+            hover[name] = with_error(name, resp[name])
     space = None
     if columns:
         locus, label = hexagon_locus(data, receptor_set, receptor_curves)

@@ -25,9 +25,9 @@ from beeoptics.pipeline.logs import log
 from beeoptics.spectra import grid
 from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
-from beeoptics.vision.colourspace import colour_coordinates
 from beeoptics.vision.human import srgb, tristimulus
 from beeoptics.vision.receptorset import DEFAULT_CURVES, brightness_weights, curves, lacking, ommatidium_types
+from beeoptics.vision.uncertainty import colour_columns
 
 #: The share of receptors meeting back faces that says an eye is enclosed: below a ground or inside a
 #: closed mesh every one does; among two-sided blades and petals about half do (58 % of the worker's in
@@ -193,7 +193,7 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
 
 
 def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=config_default("colour.background"),
-            receptor_curves=DEFAULT_CURVES):
+            receptor_curves=DEFAULT_CURVES, replicate_catches=None):
     """Every receptor's catches and colour coordinates from its spectral radiance (n, wavelengths) on the grid ``wl``.
 
     Returns the responses table's columns (id, side, its acceptance solid
@@ -212,6 +212,11 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     catch) is divided by the background's: for ``"scene"`` the mean of
     that over the table's receptors that have the class, for a material
     the radiance catch of that surface (``background_q``).
+
+    ``replicate_catches`` (n, K, classes), the trace's K independent
+    replicate estimates of each receptor's catches: with them, each colour
+    column has its standard error beside it, ``se_<column>``
+    (:func:`beeoptics.vision.uncertainty.colour_columns`).
     """
     omega = acceptance_solid_angle(table.delta_rho_deg)
     sens = curves(receptor_set, wl, receptor_curves)
@@ -240,7 +245,8 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     weights = brightness_weights(receptor_set, wl, sens)
     if weights is not None:
         columns["brightness"] = catches @ weights
-    columns.update(colour_coordinates(seen, reference, receptor_set))
+    columns.update(colour_columns(seen, reference, receptor_set,
+                                  None if replicate_catches is None else replicate_catches / omega[:, None, None]))
     # What each receptor would catch of the white surface: map3's unity.
     white_q = quantum_catches(white[None] * omega[:, None], sens, wl)
     return columns, {"radiance": radiance.astype(np.float32), "irradiance": irradiance.astype(np.float32),

@@ -1,5 +1,6 @@
 """Vision: each species' receptor set, the receptors' spectral sensitivities, their catches, adaptation, the
-bee colour spaces, the human observer to compare with, receptors' polarisation sensitivity and the sky compass.
+bee colour spaces and their standard errors, the human observer to compare with, receptors' polarisation
+sensitivity and the sky compass.
 
 Names follow pavo's where pavo has the concept (Maia et al. 2019), so R users recognise them.
 """
@@ -16,6 +17,7 @@ __all__, __getattr__ = exports(__name__, {
     "colourspace": ("colour_coordinates", "coc", "coc_distance", "excitation", "hexagon", "hexagon_polar",
                     "hexagon_sector", "reflectance_catches", "rnl_distance", "spectral_locus", "triangle", "von_kries",
                     "widest_spectral_locus"),
+    "uncertainty": ("Z95", "colour_columns", "delta_se", "mean_se", "quadrature", "replicate_se", "standard_error"),
     "human": ("srgb", "tristimulus"),
     "polarisation": ("DORSAL_RIM_PS", "analyser_efficiency", "analyser_ps", "degree_and_angle", "head_frame_stokes",
                      "receptor_catch"),

@@ -28,6 +28,19 @@ the receptors saw both under the scene's light, adapted to that background
 - the colour distances: the hexagon's (Chittka 1992) and the RNL ΔS
   (Vorobyev & Osorio 1998), where the species has them.
 
+Where the species' rule gives its angles by eye region, the angle applied
+is the region's the target's centre falls in, by its elevation in the head
+frame: for the honey bee Giurfa, Zaccardi & Vorobyev's (1999) frontal
+4.0 ± 0.5°, ventral 7.1 ± 0.5° and dorsal 8.2 ± 0.6° for targets with both
+contrasts (the bands and how their gaps are bridged are the receptor set's
+data).
+
+Every number comes with its error: each contrast its standard error from
+the trace's replicate catches (:mod:`beeoptics.vision.uncertainty`), each
+verdict a flag that noise could flip it, where a condition it needs lies
+within 1.96 standard errors of its threshold, the contrast's and the
+threshold's own (a published angle's ±) in quadrature (:func:`could_flip`).
+
 Beside the rule, a receptor-level measure: how many of the receptors the
 target touches it makes differ from the background by the criterion's
 threshold (each receptor's catch as the target's share of it makes it,
@@ -40,6 +53,8 @@ References
 Giurfa M, Vorobyev M, Kevan P, Menzel R (1996) Detection of coloured
 stimuli by honeybees: minimum visual angles and receptor specific
 contrasts. J Comp Physiol A 178:699–709.
+Giurfa M, Zaccardi G, Vorobyev M (1999) How bees detect coloured targets
+using different regions of their compound eyes. J Comp Physiol A 185:591–600.
 Chittka L (1992) The colour hexagon. J Comp Physiol A 170:533–543.
 Vorobyev M, Osorio D (1998) Receptor noise as a determinant of colour
 thresholds. Proc R Soc B 265:351–358.
@@ -48,6 +63,7 @@ thresholds. Proc R Soc B 265:351–358.
 import numpy as np
 
 from beeoptics.vision.colourspace import excitation, hexagon, rnl_distance
+from beeoptics.vision.uncertainty import Z95, quadrature, standard_error
 
 #: The local background: receptors untouched by the target whose axes lie within this many of their
 #: interommatidial angles of its edge (Δρ/2 beyond its angular radius, where a receptor stops seeing
@@ -55,10 +71,18 @@ from beeoptics.vision.colourspace import excitation, hexagon, rnl_distance
 RING_DELTA_PHI = 2.0
 #: A receptor "covered" by the target: its acceptance at least half filled.
 COVERED_SHARE = 0.5
-#: The columns of a detection row (see :func:`detect`).
-COLUMNS = ("angular_diameter_deg", "receptors_touched", "receptors_covered", "cover_max", "green_contrast",
-           "green_dS", "hexagon_distance", "rnl_dS", "achromatic_detectable", "chromatic_detectable",
-           "receptors_green_above_threshold", "receptors_colour_above_threshold")
+#: The columns of a detection row (see :func:`detect`): the target's geometry and the rule's angles where it
+#: falls, then its contrasts with their standard errors, the verdicts with their flags and the receptor-level
+#: counts.
+GEOMETRY = ("angular_diameter_deg", "target_elevation_deg", "achromatic_min_angle_deg",
+            "se_achromatic_min_angle_deg", "chromatic_min_angle_deg", "se_chromatic_min_angle_deg",
+            "receptors_touched", "receptors_covered", "cover_max")
+CONTRASTS = ("green_contrast", "green_dS", "hexagon_distance", "rnl_dS")
+VERDICTS = ("achromatic_detectable", "achromatic_uncertain", "chromatic_detectable", "chromatic_uncertain",
+            "receptors_green_above_threshold", "receptors_colour_above_threshold")
+COLUMNS = (*GEOMETRY, *(c for name in CONTRASTS for c in (name, f"se_{name}")), *VERDICTS)
+#: The column of each contrast measure a rule can name.
+MEASURE_COLUMN = {"achromatic_rnl": "green_dS", "rnl": "rnl_dS", "hexagon": "hexagon_distance"}
 
 
 def local_background(axes, cover, target_direction, angular_radius_deg, delta_rho_deg, delta_phi_deg):
@@ -82,21 +106,49 @@ def local_background(axes, cover, target_direction, angular_radius_deg, delta_rh
 
 
 def unmix(catches, cover, background):
-    """The target's own catches from receptors that see it mixed with its background, (classes,).
+    """The target's own catches from receptors that see it mixed with its background, (..., classes).
 
     Least squares over the touched receptors of q_i = c_i q_t + (1 − c_i) q_b:
-    q_t = Σ c_i (q_i − (1 − c_i) q_b) / Σ c_i². NaN if no receptor is touched.
+    q_t = Σ c_i (q_i − (1 − c_i) q_b) / Σ c_i². ``catches`` (n, ..., classes)
+    may hold replicates along further axes, ``background`` (..., classes)
+    one for each. NaN if no receptor is touched.
     """
     c = np.asarray(cover, float)
     touched = c > 0.0
     if not touched.any():
         return np.full(np.shape(background), np.nan)
-    c, q = c[touched, None], np.asarray(catches, float)[touched]
+    q = np.asarray(catches, float)[touched]
+    c = c[touched].reshape((-1,) + (1,) * (q.ndim - 1))
     return (c * (q - (1.0 - c) * background)).sum(0) / (c**2).sum()
 
 
+def min_visual_angle(regions, elevation_deg):
+    """The smallest visual angle a criterion needs where the target falls, and its standard error, degrees.
+
+    Parameters
+    ----------
+    regions : Regions
+        The criterion's region table (:class:`beeoptics.vision.receptorset.Regions`).
+    elevation_deg : float
+        The target centre's elevation in the head frame, from the horizontal plane, positive dorsal.
+    """
+    k = min(int(np.searchsorted(regions.upper_deg, elevation_deg)), len(regions.upper_deg) - 1)
+    return float(regions.angle_deg[k]), float(regions.se_deg[k])
+
+
+def could_flip(value, threshold, se_value, se_threshold):
+    """Whether noise could flip ``value ≥ threshold``: the two lie within 1.96 of their errors in quadrature.
+
+    A 95 % two-sided band of the difference of two independent normal
+    estimates; an error not known (NaN, a contrast traced without
+    replicates) counts as none, so that only the known errors flag.
+    """
+    spread = quadrature(np.nan_to_num(se_value), np.nan_to_num(se_threshold))
+    return bool(abs(value - threshold) <= Z95 * spread)
+
+
 def _measure(measure, q, background, receptor_set):
-    """One contrast measure of catches ``q`` (..., classes) against ``background`` (classes,)."""
+    """One contrast measure of catches ``q`` (..., classes) against ``background`` (..., classes)."""
     adapted = q / background
     colour = receptor_set.chromatic
     if measure == "achromatic_rnl":
@@ -114,7 +166,43 @@ def _measure(measure, q, background, receptor_set):
     return np.hypot(*np.moveaxis(hexagon(excitation(adapted[..., colour])), -1, 0))
 
 
-def detect(catches, cover, background_mask, angular_diameter_deg, receptor_set):
+def contrasts(catches, cover, background_mask, receptor_set):
+    """The target's contrasts against its local background, from the catches of the receptors round it.
+
+    Parameters
+    ----------
+    catches : ndarray (n, ..., classes)
+        The receptors' catches; replicates of them along further axes give a contrast for each.
+    cover, background_mask : ndarray (n,)
+        As :func:`detect`.
+
+    Returns
+    -------
+    values : dict of ndarray (...)
+        Each of :data:`CONTRASTS`.
+    target, background : ndarray (..., classes)
+        The target's unmixed catches and its local background's.
+    """
+    background = catches[background_mask].mean(0)
+    target = unmix(catches, cover, background)
+    k = receptor_set.achromatic
+    values = {"green_contrast": excitation(target[..., k] / background[..., k]) - 0.5,
+              **{column: _measure(m, target, background, receptor_set) for m, column in MEASURE_COLUMN.items()}}
+    return values, target, background
+
+
+def _verdict(conditions):
+    """A verdict that needs every one of ``conditions`` (value, threshold, SE of each) to hold, 1 or 0, and
+    whether noise could flip it, 1 or 0: whether it differs once each condition noise could flip is made
+    to hold and once made to fail (:func:`could_flip`)."""
+    holds = [value >= threshold for value, threshold, _, _ in conditions]
+    flips = [could_flip(*c) for c in conditions]
+    hopeful = all(h or f for h, f in zip(holds, flips))
+    doubtful = all(h and not f for h, f in zip(holds, flips))
+    return int(all(holds)), int(hopeful != doubtful)
+
+
+def detect(catches, cover, background_mask, angular_diameter_deg, direction, receptor_set, replicate_catches=None):
     """Whether, and how, an eye detects a target: one row of :data:`COLUMNS`.
 
     Parameters
@@ -126,54 +214,70 @@ def detect(catches, cover, background_mask, angular_diameter_deg, receptor_set):
     background_mask : ndarray (n,) of bool
         The target's local background (:func:`local_background`).
     angular_diameter_deg : float
-        The target's angular diameter seen from the eye.
+        The target's angular diameter seen from the eye, from the geometry: exact, no error of its own.
+    direction : array_like (3,)
+        From the head to the target's centre, in the head frame, any length: which region of the
+        rule's (:func:`min_visual_angle`) it falls in.
     receptor_set : ReceptorSet
         With its ``detection`` rule, or None: the contrasts are given, the verdicts are not (NaN).
+    replicate_catches : ndarray (n, K, classes), optional
+        The trace's K independent replicate estimates of ``catches``: with them, each contrast's
+        standard error, the spread of the contrast over the replicates over √K (its local background
+        and unmixing redone in each, for both come from the same noisy receptors).
 
     Returns
     -------
     dict
-        ``angular_diameter_deg``; ``receptors_touched`` (share > 0),
-        ``receptors_covered`` (share ≥ :data:`COVERED_SHARE`), ``cover_max``;
-        ``green_contrast`` (E_t − E_b of the achromatic class), ``green_dS``
-        (its Weber contrast over its noise), ``hexagon_distance``, ``rnl_dS``;
-        ``achromatic_detectable`` and ``chromatic_detectable`` (1 or 0, NaN
-        without a rule or a contrast the rule needs); and how many touched
-        receptors the target makes reach the achromatic and the chromatic
-        criterion's contrast against the background.
+        ``angular_diameter_deg``; ``target_elevation_deg`` (head frame); the rule's smallest visual
+        angle of each criterion where the target falls and its standard error
+        (``achromatic_min_angle_deg``, ``se_achromatic_min_angle_deg``, ``chromatic_…``);
+        ``receptors_touched`` (share > 0), ``receptors_covered`` (share ≥ :data:`COVERED_SHARE`),
+        ``cover_max``; ``green_contrast`` (E_t − E_b of the achromatic class), ``green_dS`` (its Weber
+        contrast over its noise), ``hexagon_distance``, ``rnl_dS``, each with its ``se_`` (NaN without
+        replicates); ``achromatic_detectable`` and ``chromatic_detectable`` (1 or 0, NaN without a rule
+        or a contrast the rule needs), each with ``_uncertain`` (1 where noise could flip it:
+        :func:`_verdict`); and how many touched receptors the target makes reach the achromatic and
+        the chromatic criterion's contrast against the background.
     """
     catches, cover = np.asarray(catches, float), np.asarray(cover, float)
-    row = {"angular_diameter_deg": float(angular_diameter_deg), "receptors_touched": int((cover > 0).sum()),
-           "receptors_covered": int((cover >= COVERED_SHARE).sum()),
-           "cover_max": float(cover.max()) if cover.size else 0.0}
-    nan = {k: np.nan for k in COLUMNS[4:]}
+    rule = receptor_set.detection
+    alpha = float(angular_diameter_deg)
+    row = dict.fromkeys(GEOMETRY, np.nan)
+    row.update(angular_diameter_deg=alpha, receptors_touched=int((cover > 0).sum()),
+               receptors_covered=int((cover >= COVERED_SHARE).sum()),
+               cover_max=float(cover.max()) if cover.size else 0.0)
+    d = np.asarray(direction, float)
+    row["target_elevation_deg"] = float(np.degrees(np.arcsin(np.clip(d[2] / np.linalg.norm(d), -1.0, 1.0))))
+    if rule is not None:
+        for criterion in ("achromatic", "chromatic"):
+            row[f"{criterion}_min_angle_deg"], row[f"se_{criterion}_min_angle_deg"] = min_visual_angle(
+                rule[criterion]["regions"], row["target_elevation_deg"])
+    nan = dict.fromkeys(COLUMNS[len(GEOMETRY):], np.nan)
     if not background_mask.any() or not (cover > 0).any():
         return {**row, **nan}
-    background = catches[background_mask].mean(0)
-    target = unmix(catches, cover, background)
+    values, target, background = contrasts(catches, cover, background_mask, receptor_set)
     if not (background > 0).all() or not (target > 0).all():
         return {**row, **nan}
-    k = receptor_set.achromatic
-    row["green_contrast"] = float(excitation(target[k] / background[k]) - 0.5)
-    row["green_dS"] = float(_measure("achromatic_rnl", target, background, receptor_set))
-    row["hexagon_distance"] = float(_measure("hexagon", target, background, receptor_set))
-    row["rnl_dS"] = float(_measure("rnl", target, background, receptor_set))
-    rule = receptor_set.detection
-    verdicts = {"achromatic_detectable": np.nan, "chromatic_detectable": np.nan,
-                "receptors_green_above_threshold": np.nan, "receptors_colour_above_threshold": np.nan}
+    spread = None if replicate_catches is None else contrasts(
+        np.asarray(replicate_catches, float), cover, background_mask, receptor_set)[0]
+    for name in CONTRASTS:
+        row[name] = float(values[name])
+        row[f"se_{name}"] = np.nan if spread is None else float(standard_error(spread[name], axis=0))
+    verdicts = dict.fromkeys(VERDICTS, np.nan)
     if rule is not None:
         achromatic, chromatic = rule["achromatic"], rule["chromatic"]
-        green = _measure(achromatic["contrast"]["measure"], target, background, receptor_set)
-        colour = _measure(chromatic["contrast"]["measure"], target, background, receptor_set)
-        green_ok = green >= achromatic["contrast"]["threshold"]
-        colour_ok = colour >= chromatic["contrast"]["threshold"]
-        alpha = float(angular_diameter_deg)
-        # Giurfa et al.'s 5° is for targets with both contrasts; an achromatic one alone was not learnt.
-        if np.isfinite(green) and np.isfinite(colour):
-            verdicts["achromatic_detectable"] = int(alpha >= achromatic["min_visual_angle_deg"] and green_ok
-                                                    and colour_ok)
-        if np.isfinite(colour):
-            verdicts["chromatic_detectable"] = int(alpha >= chromatic["min_visual_angle_deg"] and colour_ok)
+        green, colour = (MEASURE_COLUMN[c["contrast"]["measure"]] for c in (achromatic, chromatic))
+        # The contrasts' thresholds come without published errors.
+        green_ok = (row[green], achromatic["contrast"]["threshold"], row[f"se_{green}"], 0.0)
+        colour_ok = (row[colour], chromatic["contrast"]["threshold"], row[f"se_{colour}"], 0.0)
+        # Giurfa et al.'s angles for both contrasts are for targets with both; an achromatic one alone was not learnt.
+        if np.isfinite(row[green]) and np.isfinite(row[colour]):
+            verdicts["achromatic_detectable"], verdicts["achromatic_uncertain"] = _verdict([
+                (alpha, row["achromatic_min_angle_deg"], 0.0, row["se_achromatic_min_angle_deg"]), green_ok,
+                colour_ok])
+        if np.isfinite(row[colour]):
+            verdicts["chromatic_detectable"], verdicts["chromatic_uncertain"] = _verdict([
+                (alpha, row["chromatic_min_angle_deg"], 0.0, row["se_chromatic_min_angle_deg"]), colour_ok])
         # Each touched receptor as the flower's share of it makes it, c q_t + (1 − c) q_b: the flower's
         # own effect, without the background's texture or the trace's noise.
         c = cover[cover > 0, None]

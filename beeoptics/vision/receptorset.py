@@ -79,7 +79,7 @@ class ReceptorSet(NamedTuple):
     shown in each of red, green and blue (one or, with a mosaic, several
     each); ``overall`` None or (peaks_nm, ratio); ``mosaic`` None or a tuple
     of (type name, class indices, share); ``detection`` None or the checked
-    ``detection`` section.
+    ``detection`` section, each criterion with its ``regions`` (:class:`Regions`).
     """
 
     name: str
@@ -104,6 +104,18 @@ class ReceptorSet(NamedTuple):
     @property
     def trichromat(self):
         return len(self.chromatic) == 3
+
+
+class Regions(NamedTuple):
+    """A detection criterion's smallest visual angle by eye region, arrays per region from ventral to dorsal:
+    ``upper_deg`` each region's highest elevation of the target in the head frame (a band includes its
+    upper bound), ``angle_deg`` its smallest visual angle and ``se_deg`` that angle's standard error
+    (0 where none is published), ``names``. A criterion with one angle has one region, "all"."""
+
+    upper_deg: np.ndarray
+    angle_deg: np.ndarray
+    se_deg: np.ndarray
+    names: tuple
 
 
 def set_file(spec, base=None):
@@ -205,10 +217,14 @@ def load_receptor_set(spec=DEFAULT_SET, base=None, source=None, field="receptors
 
 
 def _detection(spec, weber, spaces, achromatic, colour_classes, path):
-    """A set's detection rule, checked: each criterion's contrast must be one the set can measure."""
+    """A set's detection rule, checked: each criterion's contrast must be one the set can measure, and its
+    smallest visual angle given once or by regions that cover every elevation. Each criterion comes back
+    with its angles as a region table (:func:`_regions`), one region for an angle given once."""
     if spec is None:
         return None
+    rule = dict(spec)
     for criterion in ("achromatic", "chromatic"):
+        rule[criterion] = {**spec[criterion], "regions": _regions(spec[criterion], f"detection.{criterion}", path)}
         measure = spec[criterion]["contrast"]["measure"]
         field = f"detection.{criterion}.contrast.measure"
         if measure in ("rnl", "achromatic_rnl") and weber is None:
@@ -219,7 +235,26 @@ def _detection(spec, weber, spaces, achromatic, colour_classes, path):
                              "colour.classes, whose noise it takes")
         if measure == "hexagon" and "hexagon" not in spaces:
             raise InputError(path, field, "hexagon needs the hexagon among colour.spaces")
-    return spec
+    return rule
+
+
+def _regions(criterion, field, path):
+    """A criterion's smallest visual angles as :class:`Regions`, ordered from ventral to dorsal."""
+    if ("regions" in criterion) == ("min_visual_angle_deg" in criterion):
+        raise InputError(path, field, "give the smallest visual angle once (min_visual_angle_deg) or by "
+                         "regions, one of the two")
+    if "regions" not in criterion:
+        return Regions(np.array([90.0]), np.array([criterion["min_visual_angle_deg"]]),
+                       np.array([criterion.get("min_visual_angle_se_deg", 0.0)]), ("all",))
+    rows = sorted(criterion["regions"], key=lambda r: r["elevation_deg"][0])
+    bounds = np.array([r["elevation_deg"] for r in rows], float)
+    # The bands must run from -90 to 90, each starting where the one below it ends.
+    if bounds[0, 0] != -90.0 or bounds[-1, 1] != 90.0 or (bounds[1:, 0] != bounds[:-1, 1]).any() or \
+            (bounds[:, 1] <= bounds[:, 0]).any():
+        raise InputError(path, f"{field}.regions", "the regions' elevation_deg bands must cover -90 to 90, "
+                         "each starting where the one below it ends")
+    return Regions(bounds[:, 1], np.array([r["min_visual_angle_deg"] for r in rows], float),
+                   np.array([r["min_visual_angle_se_deg"] for r in rows], float), tuple(r["name"] for r in rows))
 
 
 def _mosaic(spec, index, path):
