@@ -232,9 +232,10 @@ def render(args):
             def progress(done, total):
                 bar.total = total
                 bar.update(done - bar.n)
+            curves = config["colour"]["sensitivities"]
             trace_part(receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
-                       settings=TraceSettings.from_config(config["trace"], args.threads), progress=progress)
-        curves = config["colour"]["sensitivities"]
+                       settings=TraceSettings.from_config(config["trace"], args.threads), receptor_set=receptor_set,
+                       progress=progress, receptor_curves=curves)
         gather_responses(receptors, args.scene, [tmp / "radiance.npz"],
                          {"responses": tmp / "responses.csv", "irradiance": tmp / "irradiance.npz"},
                          spectral=spectral, receptor_set=receptor_set, background=background, receptor_curves=curves)

@@ -33,5 +33,5 @@ __all__, __getattr__ = exports(__name__, {
     "scattering": ("Surfaces", "phong", "scatter"),
     "emitters": ("Lights", "sample_sun"),
     "integrator": ("trace_paths",),
-    "batching": ("SAMPLE_BLOCK", "TraceSettings", "trace_bundles"),
+    "batching": ("REPLICATES", "SAMPLE_BLOCK", "TraceSettings", "replicate_samples", "trace_bundles"),
 })
