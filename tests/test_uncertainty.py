@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from beeoptics.light.batching import REPLICATES, TraceSettings
-from beeoptics.light.precision import T95, standard_error
+from beeoptics.light.batching import TraceSettings
+from beeoptics.light.precision import REPLICATES, T95, Precision, standard_error
 from beeoptics.light.scene import load_scene
 from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.light.sampler import tangent_frames
@@ -118,3 +118,84 @@ def test_one_replicate_gives_no_standard_error():
     assert np.isnan(standard_error(np.ones((3, 1, 2)))).all()
     assert standard_error(np.array([[1.0, 3.0]]))[0] == pytest.approx(1.0)
     assert T95 == pytest.approx(stats.t.ppf(0.975, REPLICATES - 1), abs=1e-4)
+
+
+def lamp_scene(tmp_path, wavelengths):
+    """A bright ball 0.4° in radius, 1 m away along +x, on black: each receptor below sees it in its cone's
+    tail, one sample in fifty."""
+    radius = float(np.tan(np.radians(0.4)))
+    path = write_scene(tmp_path / "lamp.yaml", {
+        "name": "lamp", "light": {"sky": "none", "sun": False}, "eye": {"position_m": [0, 0, 0]},
+        "materials": {"lamp": {"reflectance": 0.0, "emission": 1.0}},
+        "objects": [{"primitive": {"sphere": {"radius_m": radius, "subdivisions": 4}}, "material": "lamp",
+                     "translate_m": [1.0, 0, 0]}]})
+    return load_scene(path, wavelengths)
+
+
+def off_the_lamp(n, offset_deg, rng):
+    """n unit axes ``offset_deg`` off +x, at random azimuths about it."""
+    phi, t = rng.uniform(0.0, 2.0 * np.pi, n), np.radians(offset_deg)
+    return np.column_stack([np.full(n, np.cos(t)), np.sin(t) * np.cos(phi), np.sin(t) * np.sin(phi)])
+
+
+def test_adaptive_sampling_is_unbiased_where_a_stopping_rule_is_not(tmp_path, wavelengths):
+    """A rare bright patch: a pilot that misses it reads zero, precisely. Stein's two stages set its samples
+    from the pilot and estimate from fresh ones, so their means agree with fixed sampling's within their
+    errors; adding rounds until the error looks small, keeping them all, stops early on the receptors that
+    missed it and reads low."""
+    scene = lamp_scene(tmp_path, wavelengths)
+    n, seeds, rounds = 200, 6, 32
+    axes = off_the_lamp(n, 1.65, np.random.default_rng(7))
+    origins, drho, ids = np.zeros((n, 3)), np.full(n, 2.6), np.arange(n)
+    flat = (wavelengths, np.ones((len(wavelengths), 1)))
+    precision = Precision(0.2, 0.0, 64, 2048)
+
+    def replicates(settings):
+        """Each receptor's replicate catches (n, K) of a flat receptor, and its samples."""
+        errors = {}
+        trace_cones(scene, origins, axes, drho, ids, 0, n, settings, len(wavelengths), sensitivities=flat,
+                    errors=errors)
+        return errors["catches"][..., 0], errors["samples"]
+
+    fixed, adaptive, stopped, taken = [], [], [], []
+    for seed in range(seeds):
+        fixed.append(replicates(TraceSettings(2048, 1, seed, 1 << 17))[0].mean(axis=1))
+        q, samples = replicates(TraceSettings(2048, 1, seed + 100, 1 << 17, precision=precision))
+        adaptive.append(q.mean(axis=1))
+        taken.append(samples)
+        # The stopping rule: rounds of 8 replicates of 8 samples (each round under a seed of its own), all
+        # kept, until the replicates' relative standard error is within the target.
+        kept, estimate, done = np.empty((n, 0)), np.zeros(n), np.zeros(n, bool)
+        for round_ in range(rounds):
+            kept = np.hstack([kept, replicates(TraceSettings(64, 1, 1000 * (seed + 1) + round_, 1 << 17))[0]])
+            mean = kept.mean(axis=1)
+            now = ~done & ((standard_error(kept) <= precision.target * mean) | (round_ == rounds - 1))
+            estimate[now], done = mean[now], done | now
+        stopped.append(estimate)
+    fixed, adaptive, stopped = np.array(fixed), np.array(adaptive), np.array(stopped)
+
+    def z(estimates):
+        """The mean difference from fixed sampling over the receptor-seed cases, in its standard errors."""
+        d = (estimates - fixed).ravel()
+        return d.mean() / (d.std(ddof=1) / np.sqrt(d.size))
+
+    assert np.ptp(np.concatenate(taken)) > 0  # the samples did adapt
+    assert abs(z(adaptive)) < 3.0
+    assert z(stopped) < -3.0
+
+
+def test_a_precision_asks_for_the_noise_of_the_receptor_set_and_refuses_a_pilot_above_the_maximum():
+    from beeoptics.io.errors import InputError
+    from beeoptics.io.validation import config_default
+    from beeoptics.vision.receptorset import load_receptor_set
+
+    trace = config_default("trace")
+    bee = TraceSettings.from_config({**trace, "precision": {"target": "auto"}}, receptor_set=load_receptor_set())
+    # A quarter of the honey bee's Weber fractions (Vorobyev et al. 2001).
+    np.testing.assert_allclose(bee.precision.target, [0.0325, 0.015, 0.03])
+    fly = load_receptor_set("drosophila_melanogaster")
+    assert TraceSettings.from_config({**trace, "precision": {"target": "auto"}}, receptor_set=fly).precision is None
+    assert TraceSettings.from_config({**trace, "precision": {"target": 0.05}}, receptor_set=fly).precision.target == 0.05
+    with pytest.raises(InputError, match="trace.precision.min_samples: 128 is more than max_samples, 64"):
+        TraceSettings.from_config({**trace, "precision": {"min_samples": 128, "max_samples": 64}},
+                                  receptor_set=fly)

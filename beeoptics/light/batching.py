@@ -1,9 +1,9 @@
 """Tracing many bundles of rays in batches, on several threads, with the same result for any split.
 
 A bundle is a receptor's cone or a pixel, traced with a number of samples,
-as :data:`REPLICATES` independent replicates of a share of them each (a
+as :data:`~beeoptics.light.precision.REPLICATES` independent replicates of a share of them each (a
 pixel as one), so that each bundle's mean comes with an honest standard
-error (:func:`replicate_samples`). A batch holds as many consecutive
+error (:func:`~beeoptics.light.precision.replicate_samples`). A batch holds as many consecutive
 replicates' samples as fit in about ``batch_rays`` rays; a replicate of
 more than :data:`SAMPLE_BLOCK` samples is traced in blocks of that many,
 each a unit of its own, so that no batch outgrows ``batch_rays`` however
@@ -24,18 +24,14 @@ from typing import NamedTuple
 
 import numpy as np
 
+from beeoptics.io.errors import InputError
 from beeoptics.io.validation import config_default
+from beeoptics.light.precision import Precision, class_targets, replicate_samples
 from beeoptics.light.sampler import REPLICATE_SHIFT
 
 #: Samples in a block: a bundle with more is traced in blocks of this many. The
 #: smallest ``batch_rays`` the config allows, so that a block always fits a batch.
 SAMPLE_BLOCK = 1024
-#: Independent replicates of each bundle, whose spread gives its standard error: a scrambled (quasi-random)
-#: set's points are correlated, so their own sample variance misstates the error, while independent
-#: randomisations of one set give an unbiased one (Owen 1997; L'Ecuyer & Lemieux 2002, who advise some
-#: 10–30 in all; 8 keeps each replicate's share of the samples large while the standard error of a standard
-#: error, 1/√(2(K − 1)), is 27 %).
-REPLICATES = 8
 #: Units of tracing listed at once (a few MB of indices).
 UNITS_LISTED = 1 << 16
 #: Batches queued per thread beyond those running.
@@ -43,8 +39,9 @@ QUEUED_PER_THREAD = 2
 
 
 class TraceSettings(NamedTuple):
-    """How bundles are traced: rays per bundle, path depth, seed, rays per batch, threads, and how the sky
-    is sampled (:func:`beeoptics.light.integrator.trace_paths`)."""
+    """How bundles are traced: rays per bundle, path depth, seed, rays per batch, threads, how the sky
+    is sampled (:func:`beeoptics.light.integrator.trace_paths`), and the precision asked of receptor cones
+    (:class:`~beeoptics.light.precision.Precision`; None: ``samples`` each)."""
 
     samples: int
     depth: int
@@ -52,13 +49,27 @@ class TraceSettings(NamedTuple):
     batch_rays: int
     threads: int = 1
     sky_sampling: str = config_default("trace.sky_sampling")
+    precision: Precision | None = None
 
     @classmethod
-    def from_config(cls, trace, threads=1, samples=None):
-        """The settings of a config's ``trace`` section; ``samples`` overrides its samples per receptor."""
+    def from_config(cls, trace, threads=1, samples=None, receptor_set=None):
+        """The settings of a config's ``trace`` section; ``samples`` overrides its samples per receptor.
+
+        ``receptor_set``, the eye's receptor classes, whose catches the
+        section's ``precision`` is asked of (and whose Weber fractions a
+        ``target`` of ``auto`` asks for: :func:`~beeoptics.light.precision.class_targets`);
+        without it (views through pixels), fixed samples.
+        """
+        asked = {**config_default("trace.precision"), **trace.get("precision", {})}
+        if asked["min_samples"] > asked["max_samples"]:
+            raise InputError("config", "trace.precision.min_samples",
+                             f"{asked['min_samples']} is more than max_samples, {asked['max_samples']}")
+        target = None if receptor_set is None else class_targets(asked["target"], receptor_set.weber)
+        precision = None if target is None else Precision(target, asked["floor"], asked["min_samples"],
+                                                          asked["max_samples"])
         return cls(samples=trace["samples_per_receptor"] if samples is None else samples, depth=trace["depth"],
                    seed=trace["seed"], batch_rays=trace["batch_rays"], threads=threads,
-                   sky_sampling=trace.get("sky_sampling", cls._field_defaults["sky_sampling"]))
+                   sky_sampling=trace.get("sky_sampling", cls._field_defaults["sky_sampling"]), precision=precision)
 
 
 class Blocks(NamedTuple):
@@ -70,17 +81,6 @@ class Blocks(NamedTuple):
     bundle: np.ndarray
     first_sample: np.ndarray
     samples: int
-
-
-def replicate_samples(samples):
-    """The replicates of a bundle of ``samples`` samples, and each one's samples: (K, m).
-
-    K is :data:`REPLICATES`, or ``samples`` where fewer; m = ⌊samples/K⌋, so
-    that the K·m samples traced may fall short of ``samples`` by up to K − 1.
-    One replicate gives no standard error.
-    """
-    replicates = max(1, min(REPLICATES, int(samples)))
-    return replicates, int(samples) // replicates
 
 
 def _batches(first, samples, replicates, batch_rays):

@@ -16,8 +16,8 @@ from beeoptics.io.imagefile import write_exr, write_png
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background, config_default
-from beeoptics.light.batching import replicate_samples, trace_bundles
-from beeoptics.light.precision import standard_error
+from beeoptics.light.batching import trace_bundles
+from beeoptics.light.precision import adaptive_samples, replicate_samples, standard_error
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
@@ -116,8 +116,10 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     """The mean spectral radiance of acceptance cones ``first``..``last`` at ``origins`` (m) along ``axes``,
     and the ray counts, wall and CPU seconds, as :func:`trace_receptors` gives them.
 
-    Each cone is traced as independent replicates (:func:`beeoptics.light.batching.replicate_samples`),
-    its radiance their mean (:mod:`beeoptics.light.precision`).
+    Each cone is traced as independent replicates (:func:`beeoptics.light.precision.replicate_samples`),
+    its radiance their mean (:mod:`beeoptics.light.precision`): of ``settings.samples`` samples in all,
+    or, with ``settings.precision``, as many as its pilot says it needs for the precision asked of its
+    catches (of ``sensitivities``' classes, or without them of the radiance summed over the grid).
 
     Parameters
     ----------
@@ -138,8 +140,9 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         replicate (of the Stokes vector's intensity where polarised).
     errors : dict, optional
         Filled with each cone's ``radiance_se`` (the radiance's standard
-        error, the radiance's shape), ``samples`` (the samples it took,
-        (n,)) and, with ``sensitivities``, ``catches``: each replicate's catches
+        error, the radiance's shape), ``samples`` (the samples of its
+        estimate, (n,); an adaptive trace's pilot of ``min_samples`` is
+        not among them) and, with ``sensitivities``, ``catches``: each replicate's catches
         (n, replicates, k) over the acceptance solid angle, as
         :func:`respond` computes them from the mean.
     """
@@ -172,20 +175,46 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         return radiance.reshape(len(b), -1), weights.sum(axis=1)
 
     stokes = 1 if dorsal is None else 3
-    k, m = replicate_samples(settings.samples)
-    replicates = trace_bundles(trace, first, last, settings, stokes * n_wavelengths + (target is not None), progress)
+    columns = stokes * n_wavelengths + (target is not None)
+    omega = acceptance_solid_angle(np.broadcast_to(delta_rho_deg, (len(origins),))[first:last])
+
+    def catches(spectra):
+        """Catches over the acceptance of radiance spectra (..., n_wavelengths): the curves', or without them
+        a flat receptor's (the radiance summed over the grid)."""
+        irradiance = spectra * omega.reshape(-1, *[1] * (spectra.ndim - 1))
+        if sensitivities is None:
+            return irradiance.sum(axis=-1, keepdims=True)
+        return quantum_catches(irradiance, sensitivities[1], sensitivities[0])
+
+    precision = settings.precision
+    if precision is None:
+        k, m = replicate_samples(settings.samples)
+        samples = np.full(last - first, m)
+        replicates = trace_bundles(trace, first, last, settings, columns, progress)
+    else:
+        # Stein's two stages (beeoptics.light.precision): a pilot fixes each cone's samples, fresh
+        # replicates of them make its estimate. Of a Stokes vector, the intensity's catches decide.
+        k, m = replicate_samples(precision.min_samples)
+        pilot = trace_bundles(trace, first, last, settings, columns, progress, samples=np.full(last - first, m))
+        white = catches(np.broadcast_to(horizontal_irradiance(scene.sky, scene.sun, n_wavelengths) / np.pi,
+                                        (last - first, n_wavelengths)))
+        samples = adaptive_samples(catches(pilot[..., :n_wavelengths]), white, precision)
+        replicates = trace_bundles(trace, first, last, settings, columns, progress, samples=samples,
+                                   replicates=range(k, 2 * k))
+        log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
+                 k * samples.min(initial=0), k * samples.max(initial=0), k * samples.mean() if len(samples) else 0,
+                 k * m)
     radiance = replicates.mean(axis=1)
     cover = None
     if target is not None:
         radiance, cover, replicates = radiance[:, :-1], radiance[:, -1], replicates[..., :-1]
     if errors is not None:
-        errors["radiance_se"] = standard_error(replicates).reshape(-1, stokes, n_wavelengths).squeeze(1)
-        errors["samples"] = np.full(last - first, k * m)
+        se = standard_error(replicates)
+        errors["radiance_se"] = se if dorsal is None else se.reshape(-1, stokes, n_wavelengths)
+        errors["samples"] = k * samples
         if sensitivities is not None:
             # Of the intensity, where the radiance is a Stokes vector: its first n_wavelengths columns.
-            omega = acceptance_solid_angle(np.broadcast_to(delta_rho_deg, (len(origins),))[first:last])
-            errors["catches"] = quantum_catches(replicates[..., :n_wavelengths] * omega[:, None, None],
-                                                sensitivities[1], sensitivities[0])
+            errors["catches"] = catches(replicates[..., :n_wavelengths])
     if dorsal is not None:
         radiance = radiance.reshape(-1, stokes, n_wavelengths)
     counts["seconds"], counts["cpu_seconds"] = time.perf_counter() - start, time.process_time() - cpu
