@@ -6,7 +6,7 @@ from scipy import stats
 
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.precision import REPLICATES, T95, Precision, standard_error
-from beeoptics.light.scene import load_scene
+from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.light.sampler import tangent_frames
 from beeoptics.pipeline.trace import trace_cones
@@ -199,3 +199,25 @@ def test_a_precision_asks_for_the_noise_of_the_receptor_set_and_refuses_a_pilot_
     with pytest.raises(InputError, match="trace.precision.min_samples: 128 is more than max_samples, 64"):
         TraceSettings.from_config({**trace, "precision": {"min_samples": 128, "max_samples": 64}},
                                   receptor_set=fly)
+
+
+def test_adaptive_sampling_gives_the_same_bytes_for_any_batching_threads_or_share(tmp_path, wavelengths):
+    """A receptor's pilot, and so its samples, depend on nothing but the seed and its own id."""
+    scene = lamp_scene(tmp_path, wavelengths)
+    n = 20
+    axes = off_the_lamp(n, 1.65, np.random.default_rng(8))
+    precision = Precision(0.3, 0.0, 64, 1024)
+    rs = raycasting_scene(scene)
+    runs = []
+    for batch_rays, threads, shares in [(1 << 17, 1, [(0, n)]), (3000, 2, [(0, 7), (7, n)])]:
+        settings = TraceSettings(256, 1, 4, batch_rays, threads, precision=precision)
+        parts = []
+        for first, last in shares:
+            errors = {}
+            radiance, _ = trace_cones(scene, np.zeros((n, 3)), axes, np.full(n, 2.6), np.arange(n), first, last,
+                                      settings, len(wavelengths), rs=rs, errors=errors)
+            parts.append((radiance, errors["radiance_se"], errors["samples"]))
+        runs.append([np.concatenate(a) for a in zip(*parts)])
+    assert np.ptp(runs[0][2]) > 0
+    for a, b in zip(*runs):
+        np.testing.assert_array_equal(a, b)
