@@ -195,7 +195,8 @@ def test_a_precision_asks_for_the_noise_of_the_receptor_set_and_refuses_a_pilot_
     np.testing.assert_allclose(bee.precision.target, [0.0325, 0.015, 0.03])
     fly = load_receptor_set("drosophila_melanogaster")
     assert TraceSettings.from_config({**trace, "precision": {"target": "auto"}}, receptor_set=fly).precision is None
-    assert TraceSettings.from_config({**trace, "precision": {"target": 0.05}}, receptor_set=fly).precision.target == 0.05
+    asked = TraceSettings.from_config({**trace, "precision": {"target": 0.05}}, receptor_set=fly)
+    assert asked.precision.target == 0.05
     with pytest.raises(InputError, match="trace.precision.min_samples: 128 is more than max_samples, 64"):
         TraceSettings.from_config({**trace, "precision": {"min_samples": 128, "max_samples": 64}},
                                   receptor_set=fly)

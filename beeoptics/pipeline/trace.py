@@ -363,8 +363,8 @@ def render_human(scene, camera, settings, wavelengths, rs=None):
                            first_samples=blocks.first_sample, rs=rs), ones.sum(axis=1)
 
     # A pixel is one replicate of all its samples: an image carries no errors, and its rays were drawn at once.
-    radiance = trace_bundles(trace, 0, len(dirs), settings, len(wavelengths), samples=np.full(len(dirs), settings.samples),
-                             replicates=range(1))[:, 0]
+    radiance = trace_bundles(trace, 0, len(dirs), settings, len(wavelengths),
+                             samples=np.full(len(dirs), settings.samples), replicates=range(1))[:, 0]
     xyz = tristimulus(wavelengths, radiance)
     return xyz.reshape(camera["height_px"], camera["width_px"], 3)
 

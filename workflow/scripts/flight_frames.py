@@ -8,6 +8,7 @@ with logging_to(snakemake.log[0]):
     trace_frames(snakemake.input.receptors, snakemake.params.scene, snakemake.input.flight, snakemake.output,
                  first=int(snakemake.wildcards.first), count=snakemake.params.frames_per_job,
                  fps=snakemake.params.fps, spectral=snakemake.params.spectral,
-                 settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads, receptor_set=receptor_set),
+                 settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads,
+                                                    receptor_set=receptor_set),
                  target=snakemake.params.target, receptor_set=receptor_set,
                  receptor_curves=snakemake.params.receptor_curves)
