@@ -54,6 +54,10 @@ SETTINGS = {
     "render": [
         ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone, at most "
          "65,536 (where the noise is well below the measured reflectances' spread; see the config schema)"),
+        ("--precision", "trace.precision.target", lambda text: None if text == "fixed" else _number_or(text),
+         "the relative standard error asked of each receptor's catches: a number (0.03: 3 %%), 'auto' (a quarter "
+         "of each class's Weber fraction, where the receptor set gives them) or 'fixed' (--samples each)"),
+        ("--max-samples", "trace.precision.max_samples", int, "the most samples a receptor takes to reach --precision"),
         ("--depth", "trace.depth", int, "scattering events per path; 1 is direct light only"),
         ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),
         ("--batch-rays", "trace.batch_rays", int, "rays one thread traces at once; bounds memory (about 600 "
@@ -75,6 +79,14 @@ FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "recepto
            ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
 #: The formats in words, for the help: ".csv, .eye, .ply, .gltf or .glb".
 FORMAT_LIST = f"{', '.join(list(FORMATS)[:-1])} or {list(FORMATS)[-1]}"
+
+
+def _number_or(text):
+    """``text`` as a number where it is one, else as it is (the schema then names it)."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
 def settings(args):
@@ -232,9 +244,11 @@ def render(args):
             def progress(done, total):
                 bar.total = total
                 bar.update(done - bar.n)
+            curves = config["colour"]["sensitivities"]
             trace_part(receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
-                       settings=TraceSettings.from_config(config["trace"], args.threads), progress=progress)
-        curves = config["colour"]["sensitivities"]
+                       settings=TraceSettings.from_config(config["trace"], args.threads, receptor_set=receptor_set),
+                       receptor_set=receptor_set,
+                       progress=progress, receptor_curves=curves)
         gather_responses(receptors, args.scene, [tmp / "radiance.npz"],
                          {"responses": tmp / "responses.csv", "irradiance": tmp / "irradiance.npz"},
                          spectral=spectral, receptor_set=receptor_set, background=background, receptor_curves=curves)

@@ -27,6 +27,10 @@ under ``classes``, and ``efficiency_vs_escape``, (p90² · trace_s) of
 ``escape`` over that of ``default``: how many times fewer seconds the
 default needs for the same noise in the noisiest tenth of the receptors.
 
+With ``--precision TARGET`` it compares fixed sampling with adaptive
+sampling to that relative standard error instead (``trace.precision``,
+:mod:`beeoptics.light.precision`; see :func:`precision_comparison`).
+
 What makes that noise: the scene is traced again, with the default
 estimator and the same seeds, lit by the sun alone and by the sky alone
 (their catches add up to the whole's), and ``noise_sources`` gives, for
@@ -53,6 +57,7 @@ import numpy as np
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
+from beeoptics.light.precision import Precision, standard_error
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.pipeline.trace import trace_receptors
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
@@ -76,6 +81,8 @@ def main(argv=None):
     parser.add_argument("--threads", type=int, default=2, help="threads (default: %(default)s)")
     parser.add_argument("--seeds", type=int, default=SEEDS,
                         help="independent seeds, at least 2; their spread is the noise (default: %(default)s)")
+    parser.add_argument("--precision", type=float, default=None,
+                        help="compare fixed sampling with adaptive sampling to this relative standard error (0.03)")
     args = parser.parse_args(argv)
     if args.seeds < 2:
         parser.error("--seeds: at least 2, for a spread")
@@ -96,6 +103,10 @@ def main(argv=None):
     sens = curves(receptor_set, wl)
     result = {"eye": args.eye, "scene": args.scene, "spp": args.spp, "depth": args.depth, "threads": args.threads,
               "seeds": args.seeds, "receptors": len(table.id)}
+    if args.precision is not None:
+        record("noise_precision", {**result, **precision_comparison(args, config, scene, rs, table, receptor_set,
+                                                                    wl, sens)})
+        return
 
     def traced(lit_by, sampling):
         """Each seed's catches (seeds, receptors, classes) and trace seconds."""
@@ -138,6 +149,62 @@ def main(argv=None):
     d, e = result["default"], result["escape"]
     result["efficiency_vs_escape"] = float(e["p90_rel_se"] ** 2 * e["trace_s"] / (d["p90_rel_se"] ** 2 * d["trace_s"]))
     record("noise", result)
+
+
+def precision_comparison(args, config, scene, rs, table, receptor_set, wl, sens):
+    """Fixed sampling at ``--spp`` and a quarter of it, and adaptive sampling to ``--precision``, over the seeds.
+
+    For each setting, per class: the 50th, 90th and 99th percentiles over
+    the receptors that caught light of the relative standard error, both
+    from each run's own replicates (``own_``, the median over the seeds of
+    each receptor's) and from the spread over the seeds (``seeds_``); they
+    should agree. Then ``trace_s`` (the seeds' mean, the pilot's included)
+    and ``samples`` (the mean samples a receptor, the pilot's included).
+    ``time_to_p99_ratio``: fitting the seeds' G p99 of the two fixed runs to
+    c·N^−a, the trace time fixed sampling needs to bring its p99 to
+    adaptive's (time taken as proportional to N), over adaptive's time.
+    """
+    g = receptor_set.classes[receptor_set.achromatic]
+    asked = config["trace"]["precision"]
+    settings = {f"fixed_{args.spp // 4}": (args.spp // 4, None), f"fixed_{args.spp}": (args.spp, None),
+                f"adaptive_{args.precision:g}": (args.spp, Precision(args.precision, asked["floor"],
+                                                                     asked["min_samples"], asked["max_samples"]))}
+    out = {}
+    for name, (samples, precision) in settings.items():
+        catches, own, seconds, taken = [], [], [], []
+        for seed in range(1, args.seeds + 1):
+            trace = TraceSettings(samples, args.depth, seed, config["trace"]["batch_rays"], args.threads,
+                                  precision=precision)
+            errors = {}
+            _, counts = trace_receptors(scene, table, 0, len(table.id), trace, len(wl), rs=rs,
+                                        sensitivities=(wl, sens), errors=errors)
+            catches.append(errors["catches"].mean(axis=1))
+            own.append(standard_error(errors["catches"]))
+            seconds.append(counts["seconds"])
+            taken.append(errors["samples"].mean() + (0 if precision is None else precision.min_samples))
+        catches, own = np.array(catches), np.array(own)
+        mean = catches.mean(axis=0)
+        lit = (mean > 0).all(axis=1)
+        rel_seeds = catches.std(axis=0, ddof=1)[lit] / mean[lit]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # A seed in which a receptor caught nothing gives it no relative error of its own.
+            rel_own = np.nanmedian(own[:, lit] / catches[:, lit], axis=0)
+        out[name] = {"trace_s": float(np.mean(seconds)), "samples": float(np.mean(taken)), "classes": {
+            c: {f"{how}_p{p}": float(np.nanpercentile(rel[:, k], p)) for how, rel in (("own", rel_own),
+                                                                                  ("seeds", rel_seeds))
+                for p in (50, 90, 99)} for k, c in enumerate(receptor_set.classes)}}
+        print(f"{name}: {out[name]['samples']:.0f} samples a receptor, trace {out[name]['trace_s']:.1f} s; " +
+              "; ".join(f"{c} " + ", ".join(f"{k} {v:.4f}" for k, v in d.items())
+                        for c, d in out[name]["classes"].items()), flush=True)
+    low, high, adaptive = settings
+    p99 = {k: out[k]["classes"][g]["seeds_p99"] for k in settings}
+    a = np.log(p99[low] / p99[high]) / np.log(4.0)
+    needed = args.spp * (p99[high] / p99[adaptive]) ** (1.0 / a)
+    out["fixed_exponent"] = float(a)
+    out["time_to_p99_ratio"] = float(out[high]["trace_s"] * needed / args.spp / out[adaptive]["trace_s"])
+    print(f"fixed sampling's G p99 falls as N^-{a:.2f}: it would need {needed:.0f} samples a receptor for "
+          f"adaptive's p99, {out['time_to_p99_ratio']:.1f} times adaptive's time", flush=True)
+    return out
 
 
 if __name__ == "__main__":

@@ -102,10 +102,12 @@ def main():
         part = Path(tmp) / "radiance.npz"
         settings = TraceSettings(args.spp, args.depth, args.seed, args.batch_rays, args.threads)
         before = embree_seconds()
-        counts = trace_part(receptors_csv, scene_file, {"radiance": part}, spectral=spectral, settings=settings)
+        receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")
+        counts = trace_part(receptors_csv, scene_file, {"radiance": part}, spectral=spectral, settings=settings,
+                            receptor_set=receptor_set)
         gather_responses(receptors_csv, scene_file, [part], {"responses": Path(tmp) / "responses.csv",
                                                              "irradiance": Path(tmp) / "irradiance.npz"},
-                         spectral=spectral, receptor_set=receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml"))
+                         spectral=spectral, receptor_set=receptor_set)
         wall = time.perf_counter() - start
         embree, embree_cpu = np.subtract(embree_seconds(), before)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

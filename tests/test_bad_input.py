@@ -777,9 +777,11 @@ def test_tracing_a_scene_with_no_light_exits_nonzero_and_writes_nothing(tmp_path
     result = run_stage(f"""
         from beeoptics.light.batching import TraceSettings
         from beeoptics.pipeline.trace import trace_part
+        from beeoptics.vision.receptorset import load_receptor_set
         trace_part("receptors.csv", {str(scene_file)!r}, {{"radiance": {str(out / "radiance_0_of_1.npz")!r}}},
                    spectral={{"start_nm": 300, "end_nm": 700, "step_nm": 10}},
-                   settings=TraceSettings(samples=4, depth=1, seed=1, batch_rays=1024))
+                   settings=TraceSettings(samples=4, depth=1, seed=1, batch_rays=1024),
+                   receptor_set=load_receptor_set())
         """, tmp_path)
     assert result.returncode != 0
     last = result.stderr.strip().splitlines()[-1]

@@ -5,11 +5,13 @@ import re
 import numpy as np
 import pytest
 
+from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.io.receptortable import COLUMNS, read_receptors
 from beeoptics.io.table import read_table, write_table
 from beeoptics.light.scene import load_scene
 from beeoptics.pipeline.trace import gather_responses, respond
 from beeoptics.spectra import grid
+from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.colourspace import excitation
 from beeoptics.vision.receptorset import brightness_weights, curves, load_receptor_set
 from conftest import DATA, ROOT
@@ -30,18 +32,24 @@ def _responses(tmp_path, receptor_set, background):
     # Each receptor a random mix of three smooth spectra, W m⁻² sr⁻¹ nm⁻¹; one in ten sees nothing.
     basis = np.stack([np.exp(-0.5 * ((wl - m) / 60.0) ** 2) for m in (350.0, 480.0, 600.0)])
     radiance = rng.uniform(0.0, 0.05, (n, 3)) @ basis * (rng.random(n) > 0.1)[:, None]
-    np.savez(tmp_path / "part.npz", id=np.arange(n), radiance=radiance)
+    # Eight replicates scattered about it, and their catches as the trace gives them.
+    spread = rng.uniform(0.8, 1.2, (n, 8, 1))
+    replicates = radiance[:, None] * spread / spread.mean(axis=1, keepdims=True)
+    omega = acceptance_solid_angle(table["delta_rho_deg"])
+    catches = quantum_catches(replicates * omega[:, None, None], curves(receptor_set, wl), wl)
+    np.savez(tmp_path / "part.npz", id=np.arange(n), radiance=radiance, catches=catches,
+             radiance_se=replicates.std(axis=1, ddof=1) / np.sqrt(8), samples=np.full(n, 256))
     out = {"responses": tmp_path / "responses.csv", "irradiance": tmp_path / "irradiance.npz"}
     gather_responses(tmp_path / "receptors.csv", FLOWER, [tmp_path / "part.npz"], out, spectral=SPECTRAL,
                      receptor_set=receptor_set, background=background)
-    return read_table(out["responses"]), np.load(out["irradiance"]), wl
+    return read_table(out["responses"]), np.load(out["irradiance"]), wl, catches
 
 
 @pytest.mark.parametrize("species, background", [("apis_mellifera", "scene"), ("apis_mellifera", "leaf"),
                                                  ("drosophila_melanogaster", "scene")])
 def test_the_colour_columns_follow_from_the_tables_own_catches(tmp_path, species, background):
     rs = load_receptor_set(species)
-    table, arrays, wl = _responses(tmp_path, rs, background)
+    table, arrays, wl, replicate_catches = _responses(tmp_path, rs, background)
     q = np.column_stack([table[c] for c in rs.classes]).astype(float)
     # Each receptor's catch over its acceptance solid angle, adapted to the scene's mean of it over the
     # receptors that have the class, or to a material's (the irradiance file's background_q).
@@ -50,7 +58,10 @@ def test_the_colour_columns_follow_from_the_tables_own_catches(tmp_path, species
     lit = (q > 0).any(axis=1)
     adapted = np.where(lit[:, None], radiance_q / reference, np.nan)
     e = adapted / (adapted + 1)
+    # Each class's standard error from its eight replicates' catches; the samples as the trace took them.
+    se = np.where(np.isnan(q), np.nan, replicate_catches.std(axis=1, ddof=1) / np.sqrt(8))
     expect = {"lit": lit.astype(int), **{f"q_{c}": adapted[:, k] for k, c in enumerate(rs.classes)},
+              **{f"se_{c}": se[:, k] for k, c in enumerate(rs.classes)}, "samples": np.full(len(q), 256),
               **{f"E_{c}": e[:, k] for k, c in enumerate(rs.classes)}}
     if rs.overall is not None:
         expect["brightness"] = q @ brightness_weights(rs, wl, curves(rs, wl))

@@ -7,10 +7,11 @@ from scipy.optimize import curve_fit
 from beeoptics.io.receptortable import ReceptorTable, write_receptors
 from beeoptics.light.batching import SAMPLE_BLOCK, TraceSettings, trace_bundles
 from beeoptics.light.integrator import trace_paths
-from beeoptics.light.sampler import tangent_frames
+from beeoptics.light.sampler import REPLICATE_SHIFT, tangent_frames
 from beeoptics.light.scene import load_scene
 from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.pipeline.trace import trace_part
+from beeoptics.vision.receptorset import load_receptor_set
 from conftest import ROOT, write_scene
 
 MEADOW = ROOT / "tests" / "data" / "scenes" / "meadow_tiny" / "scene.yaml"
@@ -126,7 +127,8 @@ def traced_fan(tmp_path, n, rng_seed, samples, depth, step_nm, runs):
         out = tmp_path / f"radiance_{batch_rays}_{threads}.npz"
         trace_part(tmp_path / "receptors.csv", MEADOW, {"radiance": out},
                    spectral={"start_nm": 300, "end_nm": 700, "step_nm": step_nm},
-                   settings=TraceSettings(samples, depth, seed=5, batch_rays=batch_rays, threads=threads))
+                   settings=TraceSettings(samples, depth, seed=5, batch_rays=batch_rays, threads=threads),
+                   receptor_set=load_receptor_set())
         radiance.append(np.load(out)["radiance"])
     assert radiance[0].max() > 0.0
     return radiance
@@ -149,29 +151,32 @@ def test_bundles_of_any_sample_count_are_traced_in_batches_no_larger_than_asked(
         mean = (blocks.bundle * 1000.0 + blocks.first_sample / 7.0)[:, None] * [1.0, 2.0]
         return mean, np.full(len(blocks.bundle), float(blocks.samples))
 
-    samples = 5000  # four blocks of 1024 and one of 904
+    samples = 5000  # a replicate in four blocks of 1024 and one of 904
     want = None
     for batch_rays, threads in [(1024, 1), (3000, 2), (1 << 17, 2)]:
         seen.clear()
-        got = trace_bundles(fake, 3, 9, TraceSettings(samples, 1, 1, batch_rays, threads), 2)
-        assert max(seen) <= batch_rays and sum(seen) == 6 * samples
+        got = trace_bundles(fake, 3, 9, TraceSettings(samples, 1, 1, batch_rays, threads), 2,
+                            samples=np.full(6, samples), replicates=[2, 5])
+        assert max(seen) <= batch_rays and sum(seen) == 2 * 6 * samples
         if want is None:
             starts = np.arange(0, samples, SAMPLE_BLOCK)
             counts = np.minimum(SAMPLE_BLOCK, samples - starts)
-            want = np.array([[(b * 1000.0 + starts / 7.0) @ counts / samples] for b in range(3, 9)]) * [1.0, 2.0]
+            # Replicate j's samples are numbered from j << REPLICATE_SHIFT.
+            want = np.array([[[(b * 1000.0 + ((j << REPLICATE_SHIFT) + starts) / 7.0) @ counts / samples]
+                              for j in (2, 5)] for b in range(3, 9)]) * [1.0, 2.0]
             np.testing.assert_allclose(got, want, rtol=1e-12)
             want = got
         np.testing.assert_array_equal(got, want)
     # 10⁸ samples a receptor: the first batch is made without listing all the blocks.
     from beeoptics.light.batching import _batches
 
-    first = next(_batches(0, 600, TraceSettings(10**8, 1, 1, 1024, 1)))
+    first = next(_batches(0, np.full(600, 10**8), range(8), 1024))
     assert sum(len(b.bundle) * b.samples for b in first) == 1024
 
 
 def test_a_trace_in_blocks_is_bit_identical_however_it_is_batched_and_threaded(tmp_path):
-    """2,500 samples a receptor: blocks of 1,024, 1,024 and 452, batched two ways."""
-    first, second = traced_fan(tmp_path, 6, 4, 2500, 2, 20, [(1024, 1), (4096, 2)])
+    """8,800 samples a receptor: eight replicates each in blocks of 1,024 and 76, batched two ways."""
+    first, second = traced_fan(tmp_path, 6, 4, 8800, 2, 20, [(1024, 1), (4096, 2)])
     np.testing.assert_array_equal(first, second)
 
 

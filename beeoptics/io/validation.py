@@ -227,10 +227,12 @@ def _numbers_from_text(data, schema):
         for key, value in data.items():
             sub = schema.get("properties", {}).get(key) or schema.get("additionalProperties")
             if isinstance(sub, dict):
-                if isinstance(value, str) and sub.get("type") in ("integer", "number"):
-                    data[key] = _number(value, sub["type"])
-                elif value == "null" and "null" in sub.get("type", ()):
+                kind = sub.get("type", ())
+                if value == "null" and "null" in kind:
                     data[key] = None
+                elif isinstance(value, str) and (kind in ("integer", "number") or "number" in kind):
+                    # A type that is a list ("number or the word auto") reads text as a number where it is one.
+                    data[key] = _number(value, kind if kind == "integer" else "number")
                 else:
                     _numbers_from_text(value, sub)
     elif isinstance(data, list) and isinstance(schema.get("items"), dict):

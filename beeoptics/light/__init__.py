@@ -7,7 +7,8 @@ emitters (:mod:`.emitters`, with the sky and sun of :mod:`.sky` and
 :mod:`.sun`, lit by the clear-sky daylight of :mod:`.daylight`, shaped by
 :mod:`.hosekwilkie` and polarised by :mod:`.skypolarisation`), polarised light's
 frames and Mueller matrices (:mod:`.mueller`) and the integrator that joins them (:mod:`.integrator`),
-traced in batches on threads (:mod:`.batching`); what lies between two
+traced in batches on threads (:mod:`.batching`), each receptor as independent replicates whose
+spread is its error, to the precision asked (:mod:`.precision`); what lies between two
 Embree casts is compiled (:mod:`beeoptics.jit`). Scenes are read by
 :mod:`.scene`, their spectra by :mod:`.materials` and :mod:`.fred`.
 """
@@ -34,4 +35,5 @@ __all__, __getattr__ = exports(__name__, {
     "emitters": ("Lights", "sample_sun"),
     "integrator": ("trace_paths",),
     "batching": ("SAMPLE_BLOCK", "TraceSettings", "trace_bundles"),
+    "precision": ("REPLICATES", "Precision", "adaptive_samples", "replicate_samples", "standard_error"),
 })

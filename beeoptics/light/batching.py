@@ -1,17 +1,21 @@
 """Tracing many bundles of rays in batches, on several threads, with the same result for any split.
 
-A bundle is a receptor's cone or a pixel, traced with a number of samples.
-A batch holds as many consecutive bundles as fit in ``batch_rays`` rays; a
-bundle of more than :data:`SAMPLE_BLOCK` samples is traced in blocks of that
-many, each a bundle of its own, so that no batch outgrows ``batch_rays``
-however many samples a bundle has. Each thread traces one batch at a time
-(numpy and Embree release the GIL, so one thread shades its batch while
-another's rays are cast), and only a few batches are queued ahead, so that
-memory stays bounded and Ctrl-C stops a run within a batch's time.
+A bundle is a receptor's cone or a pixel, traced with a number of samples,
+as :data:`~beeoptics.light.precision.REPLICATES` independent replicates of a share of them each (a
+pixel as one), so that each bundle's mean comes with an honest standard
+error (:func:`~beeoptics.light.precision.replicate_samples`). A batch holds as many consecutive
+replicates' samples as fit in about ``batch_rays`` rays; a replicate of
+more than :data:`SAMPLE_BLOCK` samples is traced in blocks of that many,
+each a unit of its own, so that no batch outgrows ``batch_rays`` however
+many samples a bundle has. Each thread traces one batch at a time (numpy
+and Embree release the GIL, so one thread shades its batch while another's
+rays are cast), and only a few batches are queued ahead, so that memory
+stays bounded and Ctrl-C stops a run within a batch's time.
 
-A block's random numbers depend on nothing but its bundle's index and its
-samples' indices, and a bundle's blocks are summed in their order, so the
-results depend neither on the batch size nor on the number of threads.
+A block's random numbers depend on nothing but its bundle's index, its
+replicate and its samples' indices, and a replicate's blocks are summed in
+their order, so the results depend neither on the batch size nor on the
+number of threads.
 """
 
 from collections import deque
@@ -20,18 +24,24 @@ from typing import NamedTuple
 
 import numpy as np
 
+from beeoptics.io.errors import InputError
 from beeoptics.io.validation import config_default
+from beeoptics.light.precision import Precision, class_targets, replicate_samples
+from beeoptics.light.sampler import REPLICATE_SHIFT
 
 #: Samples in a block: a bundle with more is traced in blocks of this many. The
 #: smallest ``batch_rays`` the config allows, so that a block always fits a batch.
 SAMPLE_BLOCK = 1024
+#: Units of tracing listed at once (a few MB of indices).
+UNITS_LISTED = 1 << 16
 #: Batches queued per thread beyond those running.
 QUEUED_PER_THREAD = 2
 
 
 class TraceSettings(NamedTuple):
-    """How bundles are traced: rays per bundle, path depth, seed, rays per batch, threads, and how the sky
-    is sampled (:func:`beeoptics.light.integrator.trace_paths`)."""
+    """How bundles are traced: rays per bundle, path depth, seed, rays per batch, threads, how the sky
+    is sampled (:func:`beeoptics.light.integrator.trace_paths`), and the precision asked of receptor cones
+    (:class:`~beeoptics.light.precision.Precision`; None: ``samples`` each)."""
 
     samples: int
     depth: int
@@ -39,42 +49,73 @@ class TraceSettings(NamedTuple):
     batch_rays: int
     threads: int = 1
     sky_sampling: str = config_default("trace.sky_sampling")
+    precision: Precision | None = None
 
     @classmethod
-    def from_config(cls, trace, threads=1, samples=None):
-        """The settings of a config's ``trace`` section; ``samples`` overrides its samples per receptor."""
+    def from_config(cls, trace, threads=1, samples=None, receptor_set=None):
+        """The settings of a config's ``trace`` section; ``samples`` overrides its samples per receptor.
+
+        ``receptor_set``, the eye's receptor classes, whose catches the
+        section's ``precision`` is asked of (and whose Weber fractions a
+        ``target`` of ``auto`` asks for: :func:`~beeoptics.light.precision.class_targets`);
+        without it (views through pixels), fixed samples.
+        """
+        asked = {**config_default("trace.precision"), **trace.get("precision", {})}
+        if asked["min_samples"] > asked["max_samples"]:
+            raise InputError("config", "trace.precision.min_samples",
+                             f"{asked['min_samples']} is more than max_samples, {asked['max_samples']}")
+        target = None if receptor_set is None else class_targets(asked["target"], receptor_set.weber)
+        precision = None if target is None else Precision(target, asked["floor"], asked["min_samples"],
+                                                          asked["max_samples"])
         return cls(samples=trace["samples_per_receptor"] if samples is None else samples, depth=trace["depth"],
                    seed=trace["seed"], batch_rays=trace["batch_rays"], threads=threads,
-                   sky_sampling=trace.get("sky_sampling", cls._field_defaults["sky_sampling"]))
+                   sky_sampling=trace.get("sky_sampling", cls._field_defaults["sky_sampling"]), precision=precision)
 
 
 class Blocks(NamedTuple):
-    """Units of tracing: for each, its bundle, the index of its first sample, and its samples."""
+    """Units of tracing: for each, its bundle, the index of its first sample, and its samples.
+
+    A first sample's index holds its replicate above :data:`~beeoptics.light.sampler.REPLICATE_SHIFT`
+    bits (:mod:`beeoptics.light.sampler`)."""
 
     bundle: np.ndarray
     first_sample: np.ndarray
     samples: int
 
 
-def _batches(first, last, settings):
-    """The blocks of bundles ``first``..``last``, batched: lists of :class:`Blocks`, in order.
+def _batches(first, samples, replicates, batch_rays):
+    """The blocks of bundles ``first``.. (``samples`` per replicate of each), batched: lists of :class:`Blocks`.
 
-    Made one batch at a time, so that a run of 10⁸ samples a receptor does
-    not hold the list of its blocks.
+    Units run bundle by bundle, each bundle's replicates in order, each
+    replicate's blocks in order; a batch is the units that start within a
+    window short enough that it holds at most ``batch_rays`` rays. Listed a
+    few bundles at a time, so that a run of 10⁸ samples a receptor does not
+    hold the list of all its blocks.
     """
-    per_bundle = -(-settings.samples // SAMPLE_BLOCK)
-    size = min(settings.samples, SAMPLE_BLOCK)
-    step = max(1, settings.batch_rays // size)
-    for lo in range(0, (last - first) * per_bundle, step):
-        unit = np.arange(lo, min((last - first) * per_bundle, lo + step))
-        bundle, start = first + unit // per_bundle, unit % per_bundle * size
-        count = np.minimum(size, settings.samples - start)
-        # A batch holds blocks of one size: the last block of a bundle may be shorter.
-        yield [Blocks(bundle[count == c], start[count == c], int(c)) for c in np.unique(count)]
+    blocks = -(-samples // SAMPLE_BLOCK)  # per replicate of each bundle
+    per_bundle = blocks * len(replicates)
+    window = max(1, batch_rays - int(min(SAMPLE_BLOCK, samples.max(initial=1))) + 1)
+    ends = np.cumsum(per_bundle)
+    lo = 0
+    while lo < len(samples):
+        hi = max(lo + 1, int(np.searchsorted(ends, ends[lo] - per_bundle[lo] + UNITS_LISTED, "right")))
+        unit = np.arange(ends[hi - 1] - ends[lo] + per_bundle[lo])
+        bundle = lo + np.repeat(np.arange(hi - lo), per_bundle[lo:hi])
+        within = unit - np.repeat(ends[lo:hi] - ends[lo] + per_bundle[lo] - per_bundle[lo:hi], per_bundle[lo:hi])
+        replicate = np.asarray(replicates)[within // blocks[bundle]]
+        start = within % blocks[bundle] * SAMPLE_BLOCK
+        count = np.minimum(SAMPLE_BLOCK, samples[bundle] - start)
+        batch = (np.cumsum(count) - count) // window
+        edges = np.flatnonzero(np.diff(batch, prepend=-1, append=batch[-1] + 1))
+        for a, b in zip(edges[:-1], edges[1:]):
+            ids, first_sample, c = first + bundle[a:b], (replicate[a:b] << REPLICATE_SHIFT) + start[a:b], count[a:b]
+            # A batch holds blocks of one size: the last block of a replicate may be shorter.
+            yield [Blocks(ids[c == k], first_sample[c == k], int(k)) for k in np.unique(c)]
+        lo = hi
 
 
-def trace_bundles(trace, first, last, settings, columns, progress=None):
-    """Each bundle's mean, traced in batches of blocks on ``settings.threads`` threads.
+def trace_bundles(trace, first, last, settings, columns, progress=None, samples=None, replicates=None):
+    """Each bundle's mean of each replicate, traced in batches of blocks on ``settings.threads`` threads.
 
     Parameters
     ----------
@@ -88,17 +129,29 @@ def trace_bundles(trace, first, last, settings, columns, progress=None):
         m, the length of a bundle's result.
     progress : callable, optional
         Called with (bundles done, bundles in all) after each batch.
+    samples : ndarray of int, shape (last − first,), optional
+        Each bundle's samples per replicate; by default
+        :func:`replicate_samples` of ``settings.samples``.
+    replicates : sequence of int, optional
+        The replicates' indices, by default 0 … K − 1 (K of :func:`replicate_samples`).
 
     Returns
     -------
-    ndarray, shape (last − first, m)
-        Each bundle's weighted mean over all its samples.
+    ndarray, shape (last − first, len(replicates), m)
+        Each bundle's weighted mean over each replicate's samples.
     """
     n = last - first
-    means, weights = np.zeros((n, columns)), np.zeros(n)
+    k, m = replicate_samples(settings.samples)
+    samples = np.full(n, m, np.int64) if samples is None else np.asarray(samples, np.int64)
+    replicates = range(k) if replicates is None else replicates
+    r = len(replicates)
+    position = np.zeros(max(replicates, default=0) + 1, np.int64)
+    position[list(replicates)] = np.arange(r)
+    whole = samples <= SAMPLE_BLOCK
+    means, weights = np.zeros((n * r, columns)), np.zeros(n * r)
     done = 0
     with ThreadPoolExecutor(max(1, settings.threads)) as pool:
-        batches = iter(_batches(first, last, settings))
+        batches = _batches(first, samples, replicates, settings.batch_rays)
         queue = deque()
         try:
             while True:
@@ -110,26 +163,28 @@ def trace_bundles(trace, first, last, settings, columns, progress=None):
                 if not queue:
                     break
                 results = queue.popleft().result()
-                rows = np.concatenate([blocks.bundle for blocks, _, _ in results]) - first
+                bundle = np.concatenate([blocks.bundle for blocks, _, _ in results]) - first
+                start = np.concatenate([blocks.first_sample for blocks, _, _ in results])
+                rows = bundle * r + position[start >> REPLICATE_SHIFT]
                 mean = np.concatenate([m for _, m, _ in results])
-                if settings.samples <= SAMPLE_BLOCK:
-                    means[rows] = mean
-                else:
-                    # Each bundle's blocks are summed in the order of their samples, whichever
-                    # batches they came in: batches arrive in order, and within one np.add.at
-                    # adds repeated rows in the order given.
-                    start = np.concatenate([blocks.first_sample for blocks, _, _ in results])
-                    weight = np.concatenate([w for _, _, w in results])
-                    order = np.lexsort((start, rows))
-                    np.add.at(means, rows[order], (mean * weight[:, None])[order])
-                    np.add.at(weights, rows[order], weight[order])
-                done = max(done, int(rows.max()) + 1)
+                one = whole[bundle]
+                # A replicate traced in one block keeps its mean as traced, to the last bit.
+                means[rows[one]] = mean[one]
+                # A replicate's blocks are summed in the order of their samples, whichever batches
+                # they came in: batches arrive in order, and within one np.add.at adds repeated
+                # rows in the order given.
+                weight = np.concatenate([w for _, _, w in results])
+                order = np.lexsort((start, rows))
+                order = order[~one[order]]
+                np.add.at(means, rows[order], (mean * weight[:, None])[order])
+                np.add.at(weights, rows[order], weight[order])
+                done = max(done, int(bundle.max()) + 1)
                 if progress is not None:
                     progress(done, n)
         finally:
             # Interrupted: finish only the batches already running.
             for future in queue:
                 future.cancel()
-    if settings.samples > SAMPLE_BLOCK:
-        means /= weights[:, None]
-    return means
+    split = ~np.repeat(whole, r)
+    means[split] /= weights[split, None]
+    return means.reshape(n, r, columns)

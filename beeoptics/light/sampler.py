@@ -12,6 +12,15 @@ A bundle of rays (a receptor's cone, a pixel) is stratified by one
 scrambled Halton set (Owen 2017) shared by all bundles, each shifting it by
 its own random offset (Cranley & Patterson 1976).
 
+A bundle may be traced as several independent replicates (randomised
+quasi-Monte Carlo: L'Ecuyer & Lemieux 2002): replicate j draws the same
+Halton points 0, 1, … under its own random shift, and its paths' numbers
+from sample indices j·2²⁴ + i, so that no two replicates share a number and
+their spread is an honest error. In :func:`uniform1`'s key a sample index
+takes bits 0–31 (replicate 0–255 in bits 24–31, a replicate's sample
+0–2²⁴−1 below), the stream bits 32–55 (streams below 2²⁴) and the
+dimension bits 56–63 (dimensions below 256).
+
 References
 ----------
 Steele GL, Lea D, Flood CH (2014) Fast splittable pseudorandom number
@@ -19,6 +28,8 @@ generators. Proc OOPSLA 2014:453–472.
 Cranley R, Patterson TNL (1976) Randomization of number theoretic methods
 for multiple integration. SIAM J Numer Anal 13:904–914.
 Owen AB (2017) A randomized Halton algorithm in R. arXiv:1706.02808.
+L'Ecuyer P, Lemieux C (2002) Recent advances in randomized quasi-Monte Carlo
+methods. In: Dror M et al. (eds) Modeling Uncertainty. Kluwer, pp 419–474.
 Duff T, Burgess J, Christensen P, Hery C, Kensler A, Liani M, Villemin R
 (2017) Building an orthonormal basis, revisited. J Comput Graph Tech 6:1–8.
 """
@@ -26,6 +37,9 @@ Duff T, Burgess J, Christensen P, Hery C, Kensler A, Liani M, Villemin R
 import numpy as np
 
 from beeoptics.jit import kernel
+
+#: Bits of a sample index below its replicate's index: a replicate holds at most 2²⁴ samples.
+REPLICATE_SHIFT = 24
 
 _GOLDEN, _MIX1, _MIX2 = np.uint64(0x9E3779B97F4A7C15), np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
 
@@ -60,7 +74,7 @@ def uniform(seed, stream, sample, dimension):
 
 
 def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
-    """Points in the unit square: one scrambled Halton sequence, shifted per stream.
+    """Points in the unit square: one scrambled Halton sequence, shifted per stream and replicate.
 
     Parameters
     ----------
@@ -72,8 +86,10 @@ def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
     dimensions : pair of int
         The random dimensions of the two shifts.
     first_samples : ndarray of int, shape (n,), optional
-        Where in the sequence each stream's points start (0 by default), so
-        that a bundle's samples can be drawn in blocks.
+        Each stream's first sample index (0 by default): its replicate
+        (``first >> REPLICATE_SHIFT``) chooses the shift, the rest where in
+        the sequence the points start, so that a bundle's samples can be
+        drawn in blocks.
 
     Returns
     -------
@@ -82,15 +98,17 @@ def shifted_halton(samples, seed, streams, dimensions, first_samples=None):
     from scipy.stats import qmc  # imported where used: scipy.stats takes half a second, which only tracing needs
 
     n = len(streams)
-    first_samples = np.zeros(n, np.int64) if first_samples is None else np.asarray(first_samples)
+    first_samples = np.zeros(n, np.int64) if first_samples is None else np.asarray(first_samples, np.int64)
+    offset = first_samples & ((1 << REPLICATE_SHIFT) - 1)
     base = np.empty((n, samples, 2))
     halton = qmc.Halton(2, scramble=True, seed=np.random.default_rng(seed))
-    for start in np.unique(first_samples):
+    for start in np.unique(offset):
         # The Halton sequence is computed from a point's index: start there. (scipy's
         # fast_forward would draw and discard the points before it, a cost that grows with it.)
         halton.num_generated = int(start)
-        base[first_samples == start] = halton.random(samples)
-    shift = np.stack([uniform(seed, streams, np.zeros(n, np.int64), d) for d in dimensions], -1)
+        base[offset == start] = halton.random(samples)
+    # A replicate's shift is keyed by its first sample index, which no path's number of another replicate uses.
+    shift = np.stack([uniform(seed, streams, first_samples - offset, d) for d in dimensions], -1)
     return (base + shift[:, None, :]) % 1.0
 
 

@@ -191,7 +191,7 @@ def detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, cen
     every = np.concatenate(picked)
     radiance, _, cover = trace_cones(scene, np.vstack(origins), np.vstack(axes), drho[every],
                                      np.concatenate(streams).astype(np.int64), 0, len(every), settings, len(wl),
-                                     rs=rs, target=(centre, radius))
+                                     rs=rs, target=(centre, radius), sensitivities=(wl, sens))
     catches = quantum_catches(radiance, sens, wl)
     catches[absent[every]] = np.nan
     out, start = [], 0

@@ -56,7 +56,7 @@ def _poses(flight_file, fps, first, count):
 
 
 def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, count, fps, spectral, settings,
-                 target=None):
+                 target=None, receptor_set=None, receptor_curves=DEFAULT_CURVES):
     """Trace every receptor at a share of a flight's frames: ``outputs["frames"]`` (npz).
 
     The share is frames ``first`` … ``first + count − 1``; the scene and its
@@ -65,17 +65,21 @@ def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, coun
     receptor's distance along its axis to the first surface (infinite for
     the sky); with a ``target`` (the flight's, see :func:`flight_products`),
     also each receptor's share of its acceptance that met it first
-    (``cover``), within the sphere of its radius about its centre.
+    (``cover``), within the sphere of its radius about its centre. With a
+    ``receptor_set``, a precision asked of the trace is asked of its
+    catches (:func:`beeoptics.pipeline.trace.trace_cones`).
     """
     wl = grid(**spectral)
     scene = load_scene(scene_file, wl)
     table = read_receptors(receptors_csv)
     rs = raycasting_scene(scene)
     sphere = None if target is None else (np.asarray(target["position_m"], float), float(target["radius_m"]))
+    sensitivities = None if receptor_set is None else (wl, curves(receptor_set, wl, receptor_curves))
     radiance, depth, cover, poses = [], [], [], _poses(flight_file, fps, first, count)
     for p in poses:
         here = posed(scene, p.eye())
-        traced = trace_receptors(here, table, 0, len(table.id), settings, len(wl), rs=rs, target=sphere)
+        traced = trace_receptors(here, table, 0, len(table.id), settings, len(wl), rs=rs, target=sphere,
+                                 sensitivities=sensitivities)
         radiance.append(traced[0])
         cover.append(traced[2] if sphere is not None else np.zeros(len(table.id)))
         origins, axes = receptors_in_world(here, table.position, table.axis)
@@ -300,7 +304,7 @@ def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *,
         # Each frame draws random numbers of its own: a receptor's id offset by the frame's.
         streams = np.concatenate([(start + k) * width + table.id for k in range(len(chunk))]).astype(np.int64)
         radiance, counts = trace_cones(scene, origins, axes, np.tile(table.delta_rho_deg, len(chunk)), streams, 0,
-                                       len(origins), settings, len(wl), rs=rs)
+                                       len(origins), settings, len(wl), rs=rs, sensitivities=(wl, sens))
         q = (quantum_catches(radiance, sens, wl) / white).reshape(len(chunk), n, -1)
         q[:, absent] = np.nan
         catches[start:start + len(chunk)] = q

@@ -86,7 +86,8 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
     table = read_receptors(receptors_csv)
     rim = _dorsal_rim(table, receptors_csv)
     a = _analysers(receptor_set, eye_file)
-    radiance, _ = trace_receptors(scene, table, 0, len(table.id), settings, len(wl), polarised=True)
+    radiance, _ = trace_receptors(scene, table, 0, len(table.id), settings, len(wl), polarised=True,
+                                  sensitivities=(wl, curves(receptor_set, wl, receptor_curves)))
     catches = head_frame_stokes(stokes_catches(radiance, table.delta_rho_deg, wl, receptor_set, receptor_curves),
                                 table.axis)
     degree, angle = degree_and_angle(catches)
@@ -173,7 +174,7 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings,
         rs = raycasting_scene(scene)
         origins = (np.einsum("nj,hij->hni", table.position[rim] * 1e-3, rotations) + scene.eye_position).reshape(-1, 3)
         stokes = trace_cones(scene, origins, axes, drho, streams, 0, len(axes), settings, len(wl), rs=rs,
-                             dorsal=dorsal)[0]
+                             dorsal=dorsal, sensitivities=(wl, uv))[0]
         catches = head_frame_stokes(quantum_catches(stokes, uv, wl)[..., 0], np.tile(table.axis[rim], (headings, 1)))
         pol = sky_compass.pol_responses(catches, np.tile(table.microvilli_deg[rim], headings), dorsal_rim_ps)
         estimate, confidence = np.array([sky_compass.read_out(p, t, azimuths)

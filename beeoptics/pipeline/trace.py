@@ -17,6 +17,7 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background, config_default
 from beeoptics.light.batching import trace_bundles
+from beeoptics.light.precision import adaptive_samples, replicate_samples, standard_error
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
@@ -37,21 +38,29 @@ BACK_FACES_ENCLOSED = 0.9
 HUMAN_WHITE_PERCENTILE = 99.0
 
 
-def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0, parts=1, light=None, eye=None,
-               progress=None):
+def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, receptor_set, part=0, parts=1, light=None,
+               eye=None, progress=None, receptor_curves=DEFAULT_CURVES):
     """Trace the acceptance cones of one share of the receptors through a scene: ``outputs["radiance"]``.
 
     Receptors are split into ``parts`` contiguous shares, for running on
     several machines; every receptor draws the same random numbers in any
     share, so the gathered result is bit-identical to a single part's.
-    Writes the share's receptor ids and spectral radiance (npz); returns the
-    ray counts ("cast", "shadow") and the tracing's wall and CPU seconds ("seconds", "cpu_seconds").
+    Writes the share's receptor ids (``id``), mean spectral radiance
+    (``radiance``) and its standard error (``radiance_se``), each
+    replicate's catches (``catches``, receptors × replicates × classes,
+    float64) and the samples each receptor took (``samples``) (npz); returns
+    the ray counts ("cast", "shadow") and the tracing's wall and CPU seconds
+    ("seconds", "cpu_seconds").
 
     Parameters
     ----------
     spectral : dict
         The config's ``spectral`` section (the grid, nm).
     settings : TraceSettings
+    receptor_set : ReceptorSet
+        The eye's receptor classes, whose catches each replicate gives.
+    receptor_curves : str
+        The receptor sensitivities (:func:`beeoptics.vision.receptorset.curves`).
     light, eye : dict, optional
         Overrides of the scene's light section (sweeps) and eye section (a flight's frame).
     progress : callable, optional
@@ -62,15 +71,18 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, part=0
     table = read_receptors(receptors_csv)
     bounds = np.linspace(0, len(table.id), parts + 1).round().astype(int)
     first, last = bounds[part], bounds[part + 1]
-    radiance, counts = trace_receptors(scene, table, first, last, settings, len(wl), progress)
+    errors = {}
+    radiance, counts = trace_receptors(scene, table, first, last, settings, len(wl), progress,
+                                       sensitivities=(wl, curves(receptor_set, wl, receptor_curves)), errors=errors)
     with atomic_path(outputs["radiance"]) as tmp:
         # Uncompressed: zlib shrinks these spectra by 6 % and took a sixth of the stage's time.
-        np.savez(tmp, id=table.id[first:last], radiance=radiance)
+        np.savez(tmp, id=table.id[first:last], radiance=radiance, radiance_se=errors["radiance_se"],
+                 catches=errors["catches"], samples=errors["samples"])
     return counts
 
 
 def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None, polarised=False,
-                    target=None):
+                    target=None, sensitivities=None, errors=None):
     """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
     and the ray counts, wall and CPU seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built.
 
@@ -78,7 +90,8 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
     the frame of the head's dorsal direction about the receptor's samples
     (:func:`beeoptics.light.integrator.trace_paths`). ``target``, a sphere
     (centre, radius; scene units): also the share of each receptor's
-    acceptance whose samples met it first, (last − first,), a third result."""
+    acceptance whose samples met it first, (last − first,), a third result.
+    ``sensitivities`` and ``errors``: as :func:`trace_cones` takes them."""
     origins, axes = receptors_in_world(scene, table.position, table.axis)
     rs = raycasting_scene(scene) if rs is None else rs
     met, back = back_faces_met(rs, origins[first:last], axes[first:last])
@@ -90,7 +103,8 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
              settings.depth, settings.threads)
     # Each receptor draws the random numbers of its id, so that it is traced alike in any table that holds it.
     out = trace_cones(scene, origins, axes, table.delta_rho_deg, np.asarray(table.id, np.int64), first, last,
-                      settings, n_wavelengths, progress, rs, scene.eye_rotation[:, 2] if polarised else None, target)
+                      settings, n_wavelengths, progress, rs, scene.eye_rotation[:, 2] if polarised else None, target,
+                      sensitivities, errors)
     counts = out[1]
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], counts["seconds"])
@@ -98,9 +112,14 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
 
 
 def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, settings, n_wavelengths, progress=None,
-                rs=None, dorsal=None, target=None):
+                rs=None, dorsal=None, target=None, sensitivities=None, errors=None):
     """The mean spectral radiance of acceptance cones ``first``..``last`` at ``origins`` (m) along ``axes``,
     and the ray counts, wall and CPU seconds, as :func:`trace_receptors` gives them.
+
+    Each cone is traced as independent replicates (:func:`beeoptics.light.precision.replicate_samples`),
+    its radiance their mean (:mod:`beeoptics.light.precision`): of ``settings.samples`` samples in all,
+    or, with ``settings.precision``, as many as its pilot says it needs for the precision asked of its
+    catches (of ``sensitivities``' classes, or without them of the radiance summed over the grid).
 
     Parameters
     ----------
@@ -115,6 +134,17 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     target : (ndarray, float or ndarray), optional
         A sphere (centre, radius), or one per cone ((n, 3), (n,)): also each
         cone's share that met it first, a third result.
+    sensitivities : (ndarray, ndarray), optional
+        The spectral grid (nm) and the receptor classes' sensitivities on it
+        (n_wavelengths, k), as :func:`respond` makes them: the catches of each
+        replicate (of the Stokes vector's intensity where polarised).
+    errors : dict, optional
+        Filled with each cone's ``radiance_se`` (the radiance's standard
+        error, the radiance's shape), ``samples`` (the samples of its
+        estimate, (n,); an adaptive trace's pilot of ``min_samples`` is
+        not among them) and, with ``sensitivities``, ``catches``: each replicate's catches
+        (n, replicates, k) over the acceptance solid angle, as
+        :func:`respond` computes them from the mean.
     """
     sigma = cone_sigma(delta_rho_deg)
     rs = raycasting_scene(scene) if rs is None else rs
@@ -145,10 +175,46 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         return radiance.reshape(len(b), -1), weights.sum(axis=1)
 
     stokes = 1 if dorsal is None else 3
-    radiance = trace_bundles(trace, first, last, settings, stokes * n_wavelengths + (target is not None), progress)
+    columns = stokes * n_wavelengths + (target is not None)
+    omega = acceptance_solid_angle(np.broadcast_to(delta_rho_deg, (len(origins),))[first:last])
+
+    def catches(spectra):
+        """Catches over the acceptance of radiance spectra (..., n_wavelengths): the curves', or without them
+        a flat receptor's (the radiance summed over the grid)."""
+        irradiance = spectra * omega.reshape(-1, *[1] * (spectra.ndim - 1))
+        if sensitivities is None:
+            return irradiance.sum(axis=-1, keepdims=True)
+        return quantum_catches(irradiance, sensitivities[1], sensitivities[0])
+
+    precision = settings.precision
+    if precision is None:
+        k, m = replicate_samples(settings.samples)
+        samples = np.full(last - first, m)
+        replicates = trace_bundles(trace, first, last, settings, columns, progress)
+    else:
+        # Stein's two stages (beeoptics.light.precision): a pilot fixes each cone's samples, fresh
+        # replicates of them make its estimate. Of a Stokes vector, the intensity's catches decide.
+        k, m = replicate_samples(precision.min_samples)
+        pilot = trace_bundles(trace, first, last, settings, columns, progress, samples=np.full(last - first, m))
+        white = catches(np.broadcast_to(horizontal_irradiance(scene.sky, scene.sun, n_wavelengths) / np.pi,
+                                        (last - first, n_wavelengths)))
+        samples = adaptive_samples(catches(pilot[..., :n_wavelengths]), white, precision)
+        replicates = trace_bundles(trace, first, last, settings, columns, progress, samples=samples,
+                                   replicates=range(k, 2 * k))
+        log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
+                 k * samples.min(initial=0), k * samples.max(initial=0), k * samples.mean() if len(samples) else 0,
+                 k * m)
+    radiance = replicates.mean(axis=1)
     cover = None
     if target is not None:
-        radiance, cover = radiance[:, :-1], radiance[:, -1]
+        radiance, cover, replicates = radiance[:, :-1], radiance[:, -1], replicates[..., :-1]
+    if errors is not None:
+        se = standard_error(replicates)
+        errors["radiance_se"] = se if dorsal is None else se.reshape(-1, stokes, n_wavelengths)
+        errors["samples"] = k * samples
+        if sensitivities is not None:
+            # Of the intensity, where the radiance is a Stokes vector: its first n_wavelengths columns.
+            errors["catches"] = catches(replicates[..., :n_wavelengths])
     if dorsal is not None:
         radiance = radiance.reshape(-1, stokes, n_wavelengths)
     counts["seconds"], counts["cpu_seconds"] = time.perf_counter() - start, time.process_time() - cpu
@@ -185,11 +251,22 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
     if not np.array_equal(ids, table.id):
         raise InputError(part_npzs[0], "id", "the traced shares do not cover the receptor table in order")
     scene = load_scene(scene_file, wl, light, geometry=False)
+    for key in ("radiance_se", "catches", "samples"):
+        if key not in parts[0]:
+            raise InputError(part_npzs[0], key, "missing: the share was traced by an earlier version; trace it again")
+    replicate_catches = np.concatenate([p["catches"] for p in parts])
+    if replicate_catches.shape[2] != len(receptor_set.classes):
+        raise InputError(part_npzs[0], "catches", f"{replicate_catches.shape[2]} receptor classes where the receptor "
+                         f"set has {len(receptor_set.classes)}: the share was traced for another eye")
     columns, arrays = respond(table, np.concatenate([p["radiance"] for p in parts]), scene, wl, scene_file,
-                              receptor_set=receptor_set, background=background, receptor_curves=receptor_curves)
+                              receptor_set=receptor_set, background=background, receptor_curves=receptor_curves,
+                              replicate_catches=replicate_catches)
+    # Of the samples traced for the estimate; an adaptive trace's pilot is not among them (trace.precision).
+    columns["samples"] = np.concatenate([p["samples"] for p in parts])
     write_table(outputs["responses"], columns)
     with atomic_path(outputs["irradiance"]) as tmp:
-        np.savez(tmp, id=table.id, wavelength_nm=wl, **arrays)
+        np.savez(tmp, id=table.id, wavelength_nm=wl, radiance_se=np.concatenate([p["radiance_se"] for p in parts]),
+                 **arrays)
 
 
 def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=config_default("colour.background"),
@@ -205,6 +282,10 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     catches), ``white_radiance`` (a white Lambertian surface under the
     scene's sky and sun) and ``white_q`` (each receptor's catch of it,
     map3's unity). See :func:`gather_responses` for ``background``.
+    ``replicate_catches`` (n, replicates, classes), the catches of each
+    replicate the trace gave (:func:`trace_cones`): with them, each class's
+    standard error ``se_<class>`` beside its catch (empty where one
+    replicate gives none).
 
     Every column of colour is computed from the table's own columns: a
     receptor adapts through its own acceptance, so that its Δρ moves none of
@@ -241,7 +322,13 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     if types is not None:
         columns["ommatidium"] = np.array([receptor_set.mosaic[k][0] for k in types])
     columns["acceptance_sr"] = omega
-    columns.update({r: catches[:, k] for k, r in enumerate(receptor_set.classes)})
+    se = None if replicate_catches is None else standard_error(replicate_catches)
+    if se is not None:
+        se[np.isnan(catches)] = np.nan
+    for k, r in enumerate(receptor_set.classes):
+        columns[r] = catches[:, k]
+        if se is not None:
+            columns[f"se_{r}"] = se[:, k]
     weights = brightness_weights(receptor_set, wl, sens)
     if weights is not None:
         columns["brightness"] = catches @ weights
@@ -281,7 +368,10 @@ def render_human(scene, camera, settings, wavelengths, rs=None):
                            depth=settings.depth, seed=settings.seed, streams=blocks.bundle,
                            first_samples=blocks.first_sample, rs=rs), ones.sum(axis=1)
 
-    xyz = tristimulus(wavelengths, trace_bundles(trace, 0, len(dirs), settings, len(wavelengths)))
+    # A pixel is one replicate of all its samples: an image carries no errors, and its rays were drawn at once.
+    radiance = trace_bundles(trace, 0, len(dirs), settings, len(wavelengths),
+                             samples=np.full(len(dirs), settings.samples), replicates=range(1))[:, 0]
+    xyz = tristimulus(wavelengths, radiance)
     return xyz.reshape(camera["height_px"], camera["width_px"], 3)
 
 

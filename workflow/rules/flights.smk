@@ -26,11 +26,14 @@ rule flight_frames:
         receptors="results/eyes/{eye}/receptors.csv",
         scene=flight_scene_sources,
         flight=flight_file,
+        curves=sensitivity_files,
     output:
         frames="results/flights/{flight}/{eye}/frames/{first}.npz",
     wildcard_constraints:
         first="[0-9]+",
     params:
+        eye=eye_file,
+        receptor_curves=config["colour"]["sensitivities"],
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
         trace=lambda w: {**TRACE, "samples_per_receptor": config["flights"][w.flight]["samples_per_receptor"]},

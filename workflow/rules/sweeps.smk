@@ -38,12 +38,15 @@ use rule trace as sweep_trace with:
     input:
         receptors="results/sweeps/{sweep}/{variant}/eyes/{eye}/receptors.csv",
         scene=scene_sources,
+        curves=sensitivity_files,
     output:
         radiance="results/sweeps/{sweep}/{variant}/{eye}/{scene}/parts/radiance_{part}_of_{parts}.npz",
     params:
+        eye=eye_file,
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         trace=lambda w: {**TRACE, **sweeps.variant_trace(sweep_variant(w))},
+        receptor_curves=config["colour"]["sensitivities"],
         light=lambda w: sweeps.variant_light(sweep_variant(w)),
     log:
         "results/logs/sweeps/{sweep}/{variant}/trace/{eye}/{scene}/{part}_of_{parts}.log",

@@ -5,12 +5,15 @@ rule trace:
     input:
         receptors="results/eyes/{eye}/receptors.csv",
         scene=scene_sources,
+        curves=sensitivity_files,
     output:
         radiance="results/{eye}/{scene}/parts/radiance_{part}_of_{parts}.npz",
     params:
+        eye=eye_file,
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
         trace=TRACE,
+        receptor_curves=config["colour"]["sensitivities"],
         light={},
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",

@@ -8,7 +8,8 @@ pol = snakemake.params.polarisation
 with logging_to(snakemake.log[0]):
     compass(snakemake.input.receptors, snakemake.params.scene, snakemake.output, spectral=snakemake.params.spectral,
             settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads,
-                                               pol["compass"]["samples_per_receptor"]),
+                                               pol["compass"]["samples_per_receptor"],
+                                               receptor_set_of(snakemake.params.eye)),
             headings=pol["compass"]["headings"], turbidities=pol["compass"]["turbidities"],
             heights_m=pol["compass"]["heights_m"],
             dorsal_rim_ps=analyser_ps(pol["dorsal_rim_ps"]), title=f"{snakemake.wildcards.eye} in {snakemake.wildcards.scene}",

@@ -7,7 +7,8 @@ with logging_to(snakemake.log[0]):
     done = flight_views(snakemake.input.receptors, snakemake.params.scene, snakemake.input.flight,
                         snakemake.input.human, snakemake.output, fps=snakemake.params.fps,
                         spectral=snakemake.params.spectral,
-                        settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads),
+                        settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads,
+                                                           receptor_set=receptor_set_of(snakemake.params.eye)),
                         receptor_set=receptor_set_of(snakemake.params.eye),
                         receptor_curves=snakemake.params.receptor_curves, width_px=snakemake.params.width_px,
                         title=f"{snakemake.wildcards.eye} along {snakemake.wildcards.flight}: views")
