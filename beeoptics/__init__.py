@@ -11,8 +11,8 @@ before it: :mod:`beeoptics.eye` (eyes and their receptors) →
 :mod:`beeoptics.vision` (catches and colour spaces) →
 :mod:`beeoptics.images` (what people are shown). :mod:`beeoptics.io` (files)
 lies under all of them and :mod:`beeoptics.pipeline` (the workflow's stages)
-over all of them; :mod:`beeoptics.spectra`, :mod:`beeoptics.headframe` and
-:mod:`beeoptics.raycasting` are shared by every stage. See
+over all of them; :mod:`beeoptics.spectra`, :mod:`beeoptics.headframe`,
+:mod:`beeoptics.raycasting` and :mod:`beeoptics.replicates` are shared by every stage. See
 ``docs/architecture.md``.
 """
 

@@ -57,7 +57,8 @@ import numpy as np
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
-from beeoptics.light.precision import Precision, standard_error
+from beeoptics.light.precision import Precision
+from beeoptics.replicates import standard_error
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.pipeline.trace import trace_receptors
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH

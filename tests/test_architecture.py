@@ -8,7 +8,7 @@ from conftest import ROOT
 
 PACKAGE = ROOT / "beeoptics"
 #: Modules every stage may use.
-SHARED = {"spectra", "headframe", "raycasting", "jit", "_exports"}
+SHARED = {"spectra", "headframe", "raycasting", "jit", "replicates", "_exports"}
 #: What each part of the package may import: eye → light → vision → images, io below all,
 #: pipeline and the command-line tool above all. Vision sees neither scenes nor eyes.
 ALLOWED = {
@@ -16,6 +16,7 @@ ALLOWED = {
     "headframe": set(),
     "raycasting": set(),
     "jit": set(),
+    "replicates": set(),
     "io": {"io", "headframe", "_exports"},
     "spectra": {"io"},
     "eye": {"eye", "io", *SHARED},

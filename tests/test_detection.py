@@ -12,6 +12,7 @@ from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.detection import approach_poses, detect_views, summarise
+from beeoptics.replicates import T95
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background, unmix
@@ -199,7 +200,8 @@ def test_in_the_maze_a_disc_of_colour_contrast_alone_is_detected_from_15_degrees
     report(capsys, "colour contrast alone", rows)
     assert [rows[a]["achromatic_detectable"] for a in ANGLES_DEG] == [0, 0, 0, 0]
     assert [rows[a]["chromatic_detectable"] for a in ANGLES_DEG] == [0, 0, 0, 1]
-    assert all(r["green_dS"] < 1 < r["rnl_dS"] for r in rows.values())
+    # No green contrast within the trace's noise (a small disc's few covered receptors are noisy).
+    assert all(r["green_dS"] - T95 * r["se_green_dS"] < 1 < r["rnl_dS"] for r in rows.values())
 
 
 def test_the_summary_gives_each_rule_distance_with_its_interval(tmp_path):

@@ -5,7 +5,8 @@ import pytest
 from scipy import stats
 
 from beeoptics.light.batching import TraceSettings
-from beeoptics.light.precision import REPLICATES, T95, Precision, standard_error
+from beeoptics.light.precision import Precision
+from beeoptics.replicates import REPLICATES, T95, standard_error
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.light.sampler import tangent_frames

@@ -5,7 +5,8 @@ import pytest
 
 from beeoptics.vision.colourspace import coc, excitation, hexagon, rnl_distance
 from beeoptics.vision.receptorset import load_receptor_set
-from beeoptics.vision.uncertainty import delta_se, mean_se, quadrature, replicate_se, standard_error
+from beeoptics.replicates import standard_error
+from beeoptics.vision.uncertainty import delta_se, mean_se, quadrature, replicate_se
 
 BEE = load_receptor_set("apis_mellifera")
 #: Replicates per receptor, as the tracer draws them.

@@ -35,5 +35,5 @@ __all__, __getattr__ = exports(__name__, {
     "emitters": ("Lights", "sample_sun"),
     "integrator": ("trace_paths",),
     "batching": ("SAMPLE_BLOCK", "TraceSettings", "trace_bundles"),
-    "precision": ("REPLICATES", "Precision", "adaptive_samples", "replicate_samples", "standard_error"),
+    "precision": ("Precision", "adaptive_samples", "replicate_samples"),
 })

@@ -40,25 +40,15 @@ from typing import NamedTuple
 
 import numpy as np
 
+from beeoptics.replicates import REPLICATES, standard_error
+
 log = logging.getLogger("beeoptics")
 
-#: Independent replicates of each bundle, whose spread gives its standard error: a scrambled (quasi-random)
-#: set's points are correlated, so their own sample variance misstates the error, while independent
-#: randomisations of one set give an unbiased one (Owen 1997; L'Ecuyer & Lemieux 2002). Eight keeps each
-#: replicate's share of the default 256 samples at 32, where the quasi-random points still stratify, while
-#: the relative standard error of the standard error itself, about 1/√(2(K − 1)), is 27 %.
-REPLICATES = 8
 #: A catch's relative standard error asked by ``target: auto``, as a share of its class's Weber fraction ω:
 #: the log of an estimated catch has variance about rse², and the receptor-noise-limited distance weighs each
 #: class's log contrast by 1/ω² (Vorobyev & Osorio 1998), so rse ≤ ω/4 adds at most ω²/16 to a variance of
 #: ω², a sixteenth, to every class's term and so to ΔS²'s expected value.
 NOISE_FRACTION = 0.25
-
-#: The 97.5th percentile of Student's t with REPLICATES − 1 = 7 degrees of freedom (Abramowitz & Stegun 1964,
-#: table 26.10): a mean ± T95 standard errors of 8 replicates is its 95 % interval, where ± 1.96 covers only
-#: 91 %, the standard error being itself an estimate of 7 degrees of freedom.
-T95 = 2.3646
-
 
 class Precision(NamedTuple):
     """What adaptive sampling asks (``trace.precision``): the relative standard error of each class's catch
@@ -123,16 +113,3 @@ def adaptive_samples(pilot, white, precision):
         ratio = np.where(scale > 0.0, standard_error(pilot) / scale, 0.0)
     m = np.ceil(m0 * np.nan_to_num(ratio).max(axis=1) ** 2)
     return np.clip(m, m0, precision.max_samples // k).astype(np.int64)
-
-
-def standard_error(replicates, axis=1):
-    """The standard error of the mean of independent replicate estimates along ``axis``.
-
-    sd(ddof = 1)/√K of the K replicates: NaN where K = 1, which gives no
-    spread to estimate it from.
-    """
-    replicates = np.asarray(replicates, float)
-    k = replicates.shape[axis]
-    if k < 2:
-        return np.full(np.delete(replicates.shape, axis), np.nan)
-    return replicates.std(axis=axis, ddof=1) / np.sqrt(k)

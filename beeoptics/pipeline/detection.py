@@ -189,11 +189,13 @@ def detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, cen
     if not sum(len(r) for r in picked):
         return [{**dict.fromkeys(COLUMNS, np.nan), "receptors_touched": 0, "receptors_covered": 0} for _ in picked]
     every = np.concatenate(picked)
+    errors = {}
     radiance, _, cover = trace_cones(scene, np.vstack(origins), np.vstack(axes), drho[every],
                                      np.concatenate(streams).astype(np.int64), 0, len(every), settings, len(wl),
-                                     rs=rs, target=(centre, radius), sensitivities=(wl, sens))
+                                     rs=rs, target=(centre, radius), sensitivities=(wl, sens), errors=errors)
     catches = quantum_catches(radiance, sens, wl)
     catches[absent[every]] = np.nan
+    replicates = np.where(absent[every][:, None, :], np.nan, errors["catches"])
     out, start = [], 0
     for j, rows in enumerate(picked):
         part = slice(start, start + len(rows))
@@ -202,7 +204,7 @@ def detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, cen
         # The target's direction from each receptor: the receptors of both eyes differ by a few mm.
         ring = local_background(axes[j], cover[part], toward[j], angular_radius, drho[rows], dphi[rows])
         out.append(detect(catches[part], cover[part], ring, 2.0 * angular_radius,
-                          rotations[j].T @ (centre - positions[j]), receptor_set))
+                          rotations[j].T @ (centre - positions[j]), receptor_set, replicates[part]))
     return out
 
 

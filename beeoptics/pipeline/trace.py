@@ -17,12 +17,13 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background, config_default
 from beeoptics.light.batching import trace_bundles
-from beeoptics.light.precision import adaptive_samples, replicate_samples, standard_error
+from beeoptics.light.precision import adaptive_samples, replicate_samples
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
 from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.logs import log
+from beeoptics.replicates import standard_error
 from beeoptics.spectra import grid
 from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
@@ -282,10 +283,6 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     catches), ``white_radiance`` (a white Lambertian surface under the
     scene's sky and sun) and ``white_q`` (each receptor's catch of it,
     map3's unity). See :func:`gather_responses` for ``background``.
-    ``replicate_catches`` (n, replicates, classes), the catches of each
-    replicate the trace gave (:func:`trace_cones`): with them, each class's
-    standard error ``se_<class>`` beside its catch (empty where one
-    replicate gives none).
 
     Every column of colour is computed from the table's own columns: a
     receptor adapts through its own acceptance, so that its Δρ moves none of
@@ -295,9 +292,10 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     the radiance catch of that surface (``background_q``).
 
     ``replicate_catches`` (n, K, classes), the trace's K independent
-    replicate estimates of each receptor's catches: with them, each colour
-    column has its standard error beside it, ``se_<column>``
-    (:func:`beeoptics.vision.uncertainty.colour_columns`).
+    replicate estimates of each receptor's catches (:func:`trace_cones`):
+    with them, each catch and each colour column has its standard error
+    beside it, ``se_<column>`` (:func:`beeoptics.vision.uncertainty.colour_columns`;
+    empty where one replicate gives none, or the receptor lacks the class).
     """
     omega = acceptance_solid_angle(table.delta_rho_deg)
     sens = curves(receptor_set, wl, receptor_curves)
@@ -322,9 +320,9 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     if types is not None:
         columns["ommatidium"] = np.array([receptor_set.mosaic[k][0] for k in types])
     columns["acceptance_sr"] = omega
+    if replicate_catches is not None:
+        replicate_catches = np.where(np.isnan(catches)[:, None, :], np.nan, replicate_catches)
     se = None if replicate_catches is None else standard_error(replicate_catches)
-    if se is not None:
-        se[np.isnan(catches)] = np.nan
     for k, r in enumerate(receptor_set.classes):
         columns[r] = catches[:, k]
         if se is not None:

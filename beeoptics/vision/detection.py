@@ -38,8 +38,8 @@ data).
 Every number comes with its error: each contrast its standard error from
 the trace's replicate catches (:mod:`beeoptics.vision.uncertainty`), each
 verdict a flag that noise could flip it, where a condition it needs lies
-within 1.96 standard errors of its threshold, the contrast's and the
-threshold's own (a published angle's ±) in quadrature (:func:`could_flip`).
+within the 95 % half-widths, in quadrature, of the contrast's error and the
+threshold's own (:func:`could_flip`).
 
 Beside the rule, a receptor-level measure: how many of the receptors the
 target touches it makes differ from the background by the criterion's
@@ -62,8 +62,13 @@ thresholds. Proc R Soc B 265:351–358.
 
 import numpy as np
 
+from beeoptics.replicates import T95, standard_error
 from beeoptics.vision.colourspace import excitation, hexagon, rnl_distance
-from beeoptics.vision.uncertainty import Z95, quadrature, standard_error
+from beeoptics.vision.uncertainty import quadrature
+
+#: The z of a two-sided 95 % interval of a normal error: a published threshold's ± (a standard error of
+#: many trials) spans ± Z95 of it.
+Z95 = 1.959963984540054
 
 #: The local background: receptors untouched by the target whose axes lie within this many of their
 #: interommatidial angles of its edge (Δρ/2 beyond its angular radius, where a receptor stops seeing
@@ -137,14 +142,16 @@ def min_visual_angle(regions, elevation_deg):
 
 
 def could_flip(value, threshold, se_value, se_threshold):
-    """Whether noise could flip ``value ≥ threshold``: the two lie within 1.96 of their errors in quadrature.
+    """Whether noise could flip ``value ≥ threshold``: they lie within their 95 % half-widths in quadrature.
 
-    A 95 % two-sided band of the difference of two independent normal
-    estimates; an error not known (NaN, a contrast traced without
+    The value's half-width is T95 of its standard error (an error from the
+    trace's eight replicates, of seven degrees of freedom: Student's t,
+    :mod:`beeoptics.replicates`), the threshold's Z95 of its published ± (a
+    normal error). An error not known (NaN, a contrast traced without
     replicates) counts as none, so that only the known errors flag.
     """
-    spread = quadrature(np.nan_to_num(se_value), np.nan_to_num(se_threshold))
-    return bool(abs(value - threshold) <= Z95 * spread)
+    spread = quadrature(T95 * np.nan_to_num(se_value), Z95 * np.nan_to_num(se_threshold))
+    return bool(abs(value - threshold) <= spread)
 
 
 def _measure(measure, q, background, receptor_set):

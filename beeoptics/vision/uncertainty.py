@@ -43,31 +43,12 @@ Ann Stat 25:1541–1562.
 
 import numpy as np
 
+from beeoptics.replicates import standard_error
 from beeoptics.vision.colourspace import colour_coordinates, hexagon_polar
 
-#: The z of a two-sided 95 % interval of a normal error: a verdict within this many standard errors of its
-#: threshold is one that noise could flip.
-Z95 = 1.959963984540054
 #: The relative step of :func:`delta_se`'s central differences: the cube root of float64's epsilon, the
 #: step that balances truncation against rounding for a central difference (Press et al. 2007, §5.7).
 RELATIVE_STEP = np.finfo(float).eps ** (1.0 / 3.0)
-
-
-def standard_error(values, axis=1):
-    """The standard error of the mean of replicate estimates: sd(ddof=1)/√K along ``axis``.
-
-    Parameters
-    ----------
-    values : array_like
-        K ≥ 2 independent replicate estimates along ``axis``, in any units.
-
-    Returns
-    -------
-    ndarray
-        In the units of ``values``; NaN where a replicate is NaN.
-    """
-    values = np.asarray(values, float)
-    return values.std(axis=axis, ddof=1) / np.sqrt(values.shape[axis])
 
 
 def replicate_se(f, replicates):
