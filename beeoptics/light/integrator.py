@@ -552,9 +552,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
 
     sky_sampling : {"nee", "escape"}
         ``nee`` (the default): the sky is also sampled from every surface,
-        by next-event estimation from its table, weighed against the
-        surface's own sampling by multiple importance sampling; ``escape``:
-        a path sees the sky only where it escapes the scene.
+        by next-event estimation from its table of its light above its mean
+        (:func:`beeoptics.light.emitters.sky_table`; none for a uniform sky),
+        weighed against the surface's own sampling by multiple importance
+        sampling; ``escape``: a path sees the sky only where it escapes the scene.
 
     Returns
     -------
@@ -591,8 +592,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
                      len(lights.spectra), eps)
     if sky_sampling not in SKY_SAMPLING:
         raise ValueError(f"sky_sampling must be one of {', '.join(SKY_SAMPLING)}, not {sky_sampling!r}")
-    nee = sky_sampling == "nee" and sky is not None
-    sky_nee_args = (nee, *_sky_table(sky, lights.spectra[:0 if sky is None else len(sky.basis)]))
+    table = _sky_table(sky, lights.spectra[:0 if sky is None else len(sky.basis)])
+    # A sky nowhere above its mean (a uniform one) has an empty table: the surfaces' own sampling carries it
+    # alone, and no shadow ray is cast towards it.
+    sky_nee_args = (sky_sampling == "nee" and table[2].any(), *table)
 
     bundle = np.repeat(np.arange(n), s)
     stream = bundle if streams is None else np.repeat(streams, s)
