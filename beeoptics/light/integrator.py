@@ -163,7 +163,7 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     n_sky = sky_shape.shape[0] if has_sky else 0
     sky_shadow = np.empty((m if sky_nee else 0, 6), np.float32)
     sky_row = np.empty(m if sky_nee else 0, np.int64)
-    sky_lit = np.zeros((m if sky_nee else 0, 2, max(n_sky, 1), n_stokes))
+    sky_lit = np.empty((m if sky_nee else 0, 2, max(n_sky, 1), n_stokes))
     sky_key = np.empty((m if sky_nee else 0, 2), np.int64)
     chain, dl = np.empty((3, 3)), np.empty(3)
     nk = 0
