@@ -200,7 +200,7 @@ def noise(results, eyes_dir):
     for scene, run in runs.items():
         for name, label in (("default", "nee (default)"), ("escape", "escape")):
             e = run[name]
-            ratio = f"{run['efficiency_vs_escape']:.2f}" if name == "default" else ""
+            ratio = _efficiency(run) if name == "default" else ""
             lines.append(f"| {scene} | {label} | {100 * e['p50_rel_se']:.2f} % | {100 * e['p90_rel_se']:.2f} % | "
                          f"{100 * e['p99_rel_se']:.2f} % | {e['trace_s']:.1f} | {ratio} |")
     sources = [f"{scene}: the sun {100 * r['noise_sources']['sun_share']:.0f} % of the catch, its noise "
@@ -210,9 +210,20 @@ def noise(results, eyes_dir):
     first = next(iter(runs.values()))
     return (f"*`benchmarks/noise.py` at {commits}: the worker pair, {first['spp']} samples, depth {first['depth']}, "
             f"{first['seeds']} seeds; each receptor's relative standard error of one run's catch, percentiles over "
-            "the receptors.*\n\n" + "\n".join(lines)
+            "the receptors; an efficiency's band the 16th–84th percentiles of a bootstrap over the seeds, and its "
+            "CPU figure from the CPU seconds, which other processes change less.*\n\n" + "\n".join(lines)
             + ("\n\nWhat makes the noisiest tenth's noise (the same receptors lit by the sun alone and by the sky "
                "alone): " + "; ".join(sources) + "." if sources else ""))
+
+
+def _efficiency(run):
+    """A noise run's efficiency against escape, and from its CPU seconds, each with its band where the run has it."""
+    parts = []
+    for key, label in (("efficiency_vs_escape", ""), ("efficiency_vs_escape_cpu", "CPU ")):
+        if key in run:
+            band = f" ({run[key + '_band'][0]:.2f}–{run[key + '_band'][1]:.2f})" if key + "_band" in run else ""
+            parts.append(f"{label}{run[key]:.2f}{band}")
+    return "; ".join(parts)
 
 
 def speed(results, eyes_dir):

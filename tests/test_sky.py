@@ -4,6 +4,7 @@ import pytest
 from beeoptics.headframe import direction_from_x_towards_y
 from beeoptics.light import hosekwilkie
 from beeoptics.light.daylight import clear_sky
+from beeoptics.light.emitters import sample_sky, sky_table
 from beeoptics.light.materials import ground_albedo
 from beeoptics.light.sky import CLEAR_SKIES, clear_sky_dome, horizontal_irradiance, sky_coefficients, uniform_sky
 from beeoptics.light.sun import sun_disc
@@ -111,3 +112,31 @@ def test_uniform_sky_is_the_same_everywhere(wavelengths):
 def test_a_uniform_hemisphere_of_unit_radiance_gives_pi_on_a_horizontal_surface(wavelengths):
     sky = uniform_sky(np.ones(len(wavelengths)), hemisphere=True)
     np.testing.assert_allclose(horizontal_irradiance(sky, None, len(wavelengths)), np.pi, rtol=1e-12)
+
+
+def test_a_uniform_skys_sampling_table_is_empty_at_any_level():
+    # MIS compensation: a sky nowhere above its mean leaves nothing to sample, however its level rounds.
+    rng = np.random.default_rng(6)
+    for k in range(60):
+        sky = uniform_sky(rng.uniform(0.0, 10.0, 5) * 10.0 ** rng.uniform(-6.0, 6.0), hemisphere=bool(k % 2))
+        row_cdf, _, density = sky_table(sky, sky.basis)
+        assert not density.any() and row_cdf[-1] == 0.0
+
+
+def test_a_clear_skys_sampling_table_holds_its_light_above_the_mean_and_is_drawn_as_often(wavelengths, grass):
+    sky, _ = dome("hosek_wilkie", wavelengths, grass, elevation=30.0, turbidity=6.0)
+    row_cdf, col_cdf, density = sky_table(sky, sky.basis)
+    cell = 4.0 * np.pi / density.size
+    # Its density integrates to the share it is drawn with, the part of the sky's light above the mean.
+    assert density.sum() * cell == pytest.approx(row_cdf[-1], rel=1e-12)
+    assert 0.05 < row_cdf[-1] < 0.5
+    assert not density[: len(density) // 2].any()  # nothing below the horizon
+    # The densest cell is in the sun's aureole.
+    z = -1.0 + 2.0 * (np.arange(len(density)) + 0.5) / len(density)
+    phi = 2.0 * np.pi * (np.arange(density.shape[1]) + 0.5) / density.shape[1]
+    r, c = np.unravel_index(np.argmax(density), density.shape)
+    s = np.sqrt(1.0 - z[r] ** 2)
+    assert np.array([s * np.cos(phi[c]), s * np.sin(phi[c]), z[r]]) @ sky.sun > np.cos(np.radians(10.0))
+    # A draw past the share gives no direction: density 0.
+    assert sample_sky(row_cdf, col_cdf, density, 0.99, 0.5)[3] == 0.0
+    assert sample_sky(row_cdf, col_cdf, density, 0.5 * row_cdf[-1], 0.5)[3] > 0.0

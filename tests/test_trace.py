@@ -284,3 +284,46 @@ def test_sampling_the_sky_carries_its_polarisation_through_a_glossy_reflection(t
         assert abs(difference.mean()) < max(4.0 * difference.std() / np.sqrt(len(axes)), 2e-3), q
     # The reflection polarises: Q is a good part of I.
     assert abs(out["escape"][:, 1].mean()) > 0.1 * intensity
+
+
+@pytest.mark.parametrize("hemisphere", [False, True])
+def test_a_uniform_sky_is_left_to_the_surfaces_own_sampling_without_a_shadow_ray(tmp_path, wavelengths, hemisphere):
+    # Its compensated table is empty (MIS compensation): the default traces it as escape does, to the bit.
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "plane", "light": {"sky": "uniform", "radiance": SKY, "sun": False, "hemisphere": hemisphere},
+        "eye": {"position_m": [0, 0, 0.5]},
+        "materials": {"leaf": {"reflectance": LEAF, "gloss": {"specular": 0.2, "exponent": 20.0}}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0e5}}, "material": "leaf"}]})
+    scene = load_scene(path, wavelengths)
+    dirs, w = cone_samples(fan(50, [0.6, 0, -0.8], 40, np.random.default_rng(7)), 2.6, 32, 1)
+    out = {}
+    for sky_sampling in ("nee", "escape"):
+        counts = {}
+        out[sky_sampling] = trace_paths(scene, np.tile(scene.eye_position, (50, 1)), dirs, w, depth=3, seed=1,
+                                        counts=counts, sky_sampling=sky_sampling)
+        assert counts["shadow"] == 0
+    np.testing.assert_array_equal(out["nee"], out["escape"])
+
+
+def test_sampling_a_sky_with_a_bright_aureole_from_its_compensated_table_is_unbiased(tmp_path, wavelengths):
+    # A hazy sky, its sun's disc left out, over a glossy ground that mirrors its aureole: the default, which
+    # draws from the table the aureole's light above the sky's mean, gives escape's mean.
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "aureole", "light": {"sky": "hosek_wilkie", "turbidity": 6.0, "sun": False,
+                                     "sun_elevation_deg": 30.0, "sun_azimuth_deg": 0.0},
+        "eye": {"position_m": [0, 0, 1.0]},
+        "materials": {"leaf": {"reflectance": LEAF, "gloss": {"specular": 0.3, "exponent": 40.0}}},
+        "objects": [{"primitive": {"plane": {"size_m": 1.0e5}}, "material": "leaf"}]})
+    scene = load_scene(path, wavelengths)
+    axes = fan(200, [np.cos(np.radians(30.0)), 0.0, -np.sin(np.radians(30.0))], 25, np.random.default_rng(8))
+    dirs, w = cone_samples(axes, 2.6, 64, 1)
+    out, shadows = {}, {}
+    for sky_sampling in ("nee", "escape"):
+        counts = {}
+        out[sky_sampling] = trace_paths(scene, np.tile(scene.eye_position, (len(axes), 1)), dirs, w, depth=2, seed=1,
+                                        counts=counts, sky_sampling=sky_sampling).sum(axis=1)
+        shadows[sky_sampling] = counts["shadow"]
+    assert shadows["nee"] > 0 and shadows["escape"] == 0
+    ratio = out["nee"] / out["escape"] - 1.0
+    assert abs(ratio.mean()) < max(4.0 * ratio.std() / np.sqrt(len(ratio)), 1e-3)
+    assert abs(ratio.mean()) < 0.02

@@ -163,7 +163,7 @@ def _arrive(event, depth, rays, paths, t_hit, normals, material, w, key, bound, 
     n_sky = sky_shape.shape[0] if has_sky else 0
     sky_shadow = np.empty((m if sky_nee else 0, 6), np.float32)
     sky_row = np.empty(m if sky_nee else 0, np.int64)
-    sky_lit = np.zeros((m if sky_nee else 0, 2, max(n_sky, 1), n_stokes))
+    sky_lit = np.empty((m if sky_nee else 0, 2, max(n_sky, 1), n_stokes))
     sky_key = np.empty((m if sky_nee else 0, 2), np.int64)
     chain, dl = np.empty((3, 3)), np.empty(3)
     nk = 0
@@ -552,9 +552,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
 
     sky_sampling : {"nee", "escape"}
         ``nee`` (the default): the sky is also sampled from every surface,
-        by next-event estimation from its table, weighed against the
-        surface's own sampling by multiple importance sampling; ``escape``:
-        a path sees the sky only where it escapes the scene.
+        by next-event estimation from its table of its light above its mean
+        (:func:`beeoptics.light.emitters.sky_table`; none for a uniform sky),
+        weighed against the surface's own sampling by multiple importance
+        sampling; ``escape``: a path sees the sky only where it escapes the scene.
 
     Returns
     -------
@@ -591,8 +592,10 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
                      len(lights.spectra), eps)
     if sky_sampling not in SKY_SAMPLING:
         raise ValueError(f"sky_sampling must be one of {', '.join(SKY_SAMPLING)}, not {sky_sampling!r}")
-    nee = sky_sampling == "nee" and sky is not None
-    sky_nee_args = (nee, *_sky_table(sky, lights.spectra[:0 if sky is None else len(sky.basis)]))
+    table = _sky_table(sky, lights.spectra[:0 if sky is None else len(sky.basis)])
+    # A sky nowhere above its mean (a uniform one) has an empty table: the surfaces' own sampling carries it
+    # alone, and no shadow ray is cast towards it.
+    sky_nee_args = (sky_sampling == "nee" and table[2].any(), *table)
 
     bundle = np.repeat(np.arange(n), s)
     stream = bundle if streams is None else np.repeat(streams, s)
