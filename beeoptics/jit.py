@@ -39,12 +39,22 @@ def kernel(function):
     return Kernel(function)
 
 
-class Kernel:
-    """A function numba compiles on its first call (:func:`kernel`)."""
+def stage(function):
+    """A :func:`kernel` that only other kernels call, as one stage of theirs: compiled into each kernel that
+    calls it (numba's ``inline="always"``), not on its own with the wrappers that let Python call it, so that a
+    kernel split into named stages takes about as long to compile as it did whole (measured on the tracer's:
+    +9 % of the CPU time, where stages compiled on their own took +50 %).
+    """
+    return Kernel(function, inline=True)
 
-    def __init__(self, function):
+
+class Kernel:
+    """A function numba compiles on its first call (:func:`kernel`, :func:`stage`)."""
+
+    def __init__(self, function, inline=False):
         functools.update_wrapper(self, function)
         self.py_func = function
+        self._options = {"inline": "always"} if inline else {}
         self._compiled = None
 
     def compiled(self):
@@ -62,7 +72,8 @@ class Kernel:
                             scope[name] = value.compiled()
                         elif isinstance(value, NumbaModule):
                             scope[name] = importlib.import_module(value.name)
-                    self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.py_func)
+                    self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy",
+                                                **self._options)(self.py_func)
         return self._compiled
 
     def __call__(self, *args, **kwargs):
