@@ -182,25 +182,28 @@ class ShadowRays(NamedTuple):
     key: np.ndarray
 
 
-class Vertex(NamedTuple):
-    """Where a path is, for :func:`_arrive`'s stages, with their working space: (3,) arrays unless said.
+class Vertices(NamedTuple):
+    """Where the live paths meet surfaces, one row per live path, for :func:`_arrive`'s stages.
 
-    ``d`` is the ray's direction as cast, ``du`` the same at full precision and unit length (with
-    polarisation only); at a surface, ``normal`` faces the ray, ``mirror`` is the mirror direction and
-    ``back`` points back along the ray (the view). ``s_plane``, ``e_vector``, ``dl`` and ``chain`` (3, 3) are the
-    polarisation's working vectors and Mueller chain, ``sky`` (basis spectra,) the sky's radiance.
+    Attributes
+    ----------
+    du : ndarray (m, 3), or (0, 3) without polarisation
+        The ray's direction at full precision and unit length: the polarisation's frames and angles are taken
+        from it, not from Embree's single precision.
+    normal, mirror, back : ndarray (m, 3)
+        The surface's normal, facing the ray; the mirror direction; back along the ray (the view).
+    p_glossy : ndarray (m,)
+        The probability of sampling the glossy lobe there (:func:`beeoptics.light.scattering.glossy_share`).
+    rho_key : ndarray of int (m,)
+        The number of the path's sequence of materials with this one added: its key after a diffuse scattering.
     """
 
-    d: np.ndarray
     du: np.ndarray
     normal: np.ndarray
     mirror: np.ndarray
     back: np.ndarray
-    s_plane: np.ndarray
-    e_vector: np.ndarray
-    dl: np.ndarray
-    chain: np.ndarray
-    sky: np.ndarray
+    p_glossy: np.ndarray
+    rho_key: np.ndarray
 
 
 @stage
@@ -213,12 +216,6 @@ def _put(out, scale, mueller, i):
     else:
         for k in range(3):
             out[k] = scale * mueller[i, k, 0]
-
-
-@stage
-def _uniform(seed, paths, i, dimension):
-    """Path ``i``'s random number in ``dimension`` (:func:`beeoptics.light.sampler.uniform1`)."""
-    return uniform1(seed, paths.stream[i], paths.sample[i], dimension)
 
 
 @kernel
@@ -237,8 +234,14 @@ def _arrive(event, depth, live, paths, hits, surfaces, lights, cones, sequences,
     :class:`beeoptics.light.scattering.SurfaceArrays`, :class:`beeoptics.light.emitters.LightArrays` and
     :class:`beeoptics.light.sensors.Cones`; ``eps``, scene units, how far a ray's origin leaves a surface.
 
-    Each path goes through the stages in turn: :func:`_sky_seen` and :func:`_sun_seen` where it leaves the
-    scene; :func:`_emission`, :func:`_sun_nee`, :func:`_sky_nee` and :func:`_scatter` at a surface.
+    The stages run in turn, each over its queue of live rows, those that left the scene (``escaped``) or
+    those that met a surface (``met``), as pbrt-v4's wavefront integrator does: the sky and the sun's disc
+    seen, emission, then, unless this is the last event, where the paths meet the surfaces, the sun's and the
+    sky's next-event estimation, and scattering. A stage takes the records' arrays out once, not once per
+    path: numba counts the references to an array taken out of a record, which per path made the tracer
+    twice as slow. A path's state is only its own stages', so the result is what one path after another
+    through all of them would give; each light's contributions keep the paths' order, and with it every
+    sum's.
 
     Returns
     -------
@@ -258,36 +261,27 @@ def _arrive(event, depth, live, paths, hits, surfaces, lights, cones, sequences,
                      np.empty((m, 2), np.int64))
     sky = ShadowRays(np.empty((m_sky, 6), np.float32), np.empty(m_sky, np.int64),
                      np.zeros((m_sky, 2, max(n_sky, 1), n_stokes)), np.empty((m_sky, 2), np.int64))
-    at = Vertex(np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3),
-                np.empty(3), np.empty((3, 3)), np.empty(max(n_sky, 1)))
+    at = Vertices(np.empty((m if n_stokes == 3 else 0, 3)), np.empty((m, 3)), np.empty((m, 3)), np.empty((m, 3)),
+                  np.empty(m), np.empty(m, np.int64))
     scattered = np.zeros(m, np.bool_)
+    # The queues of the live rows that left the scene and that met a surface, each in the paths' order.
+    escaped, met = np.flatnonzero(hits.material < 0), np.flatnonzero(hits.material >= 0)
+    dim = event * DIMENSIONS_PER_EVENT
+    _incoming(paths.rays, at.du)
     nc = ns = nk = 0
-    for r in range(m):
-        i, mat = live[r], hits.material[r]
-        _incoming(paths.rays[r], n_stokes == 3, at)
-        if mat < 0:
-            # Leaving the scene: the sky, and the sun's disc on first sight only (after a surface, next-event
-            # estimation has counted the sun).
-            if n_sky:
-                nc = _sky_seen(i, paths, lights, at, found, nc)
-            if event == 0 and lights.sun_row >= 0:
-                nc = _sun_seen(i, paths, lights, cones, at, found, nc)
-            continue
-        if surfaces.glows[mat]:
-            nc = _emission(i, mat, paths, surfaces, lights, found, nc)
-        if event == depth:
-            continue
-        cos_o = _meet(r, paths.rays, hits, eps, at)
-        p_glossy = glossy_share(cos_o, surfaces.specular[mat], surfaces.mean_rho[mat], surfaces.roughness[mat],
-                                surfaces.coat_table[mat])
-        dim = event * DIMENSIONS_PER_EVENT
-        rho_key = _number(sequences, numbers, sequences[paths.key[i]] * surfaces.radix + (mat + 1))
+    if n_sky:
+        nc = _sky_seen(escaped, live, paths, lights, at, found, nc)
+    if event == 0 and lights.sun_row >= 0:
+        # The sun's disc on first sight only: after a surface, next-event estimation has counted it.
+        nc = _sun_seen(escaped, live, paths, lights, cones, found, nc)
+    nc = _emission(met, live, paths, hits, surfaces, lights, found, nc)
+    if event < depth:
+        _meet(met, live, paths, hits, surfaces, sequences, numbers, eps, at)
         if lights.sun_row >= 0:
-            ns = _sun_nee(r, i, mat, dim, p_glossy, rho_key, paths, surfaces, lights, seed, at, sun, ns)
-        if n_sky and lights.sky_nee and (surfaces.roughness[mat] > 0.0
-                                         or surfaces.mean_rho[mat] + surfaces.specular[mat] > 0.0):
-            nk = _sky_nee(r, i, mat, dim, p_glossy, rho_key, paths, surfaces, lights, seed, at, sky, nk)
-        scattered[r] = _scatter(event, r, i, mat, dim, rho_key, paths, surfaces, lights.sky_nee, seed, at)
+            ns = _sun_nee(dim, met, live, paths, hits, surfaces, lights, seed, at, sun)
+        if n_sky and lights.sky_nee:
+            nk = _sky_nee(dim, met, live, paths, hits, surfaces, lights, seed, at, sky)
+        _scatter(event, dim, met, live, paths, hits, surfaces, lights.sky_nee, seed, at, scattered)
     return ((found[0][:nc], found[1][:nc], found[2][:nc]), _first(sun, ns), _first(sky, nk), scattered)
 
 
@@ -298,221 +292,295 @@ def _first(shadows, n):
 
 
 @stage
-def _incoming(ray, polarised, at):
-    """The direction of ``ray`` into ``at.d``, and with polarisation at full precision, unit, into ``at.du``:
-    frames and angles from it, not from Embree's single precision."""
-    d, du = at.d, at.du
-    for k in range(3):
-        d[k] = ray[3 + k]
-    if polarised:
-        norm = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-        for k in range(3):
-            du[k] = d[k] / norm
+def _incoming(rays, du):
+    """The rays' directions at full precision and unit length into ``du`` (m, 3; (0, 3), and nothing to do,
+    without polarisation)."""
+    for r in range(len(du)):
+        x, y, z = np.float64(rays[r, 3]), np.float64(rays[r, 4]), np.float64(rays[r, 5])
+        norm = np.sqrt(x * x + y * y + z * z)
+        du[r, 0], du[r, 1], du[r, 2] = x / norm, y / norm, z / norm
 
 
 @stage
-def _sky_seen(i, paths, lights, at, found, nc):
-    """The sky's light where path ``i`` leaves the scene, per basis spectrum, appended to the contributions
-    ``found`` from row ``nc``: weighed, where its ray was scattered and the sky is sampled too, against the sky
+def _sky_seen(escaped, live, paths, lights, at, found, nc):
+    """The sky's light where the paths leave the scene, per basis spectrum, appended to the contributions
+    ``found`` from row ``nc``: weighed, where a ray was scattered and the sky is sampled too, against the sky
     table's sample of the same direction. Returns the contributions' new count."""
-    d, du, sky, mueller = at.d, at.du, at.sky, paths.mueller
+    rays, du = paths.rays, at.du
+    w, key, bundle, mueller, frame, last_pdf = paths.w, paths.key, paths.bundle, paths.mueller, paths.frame, paths.last_pdf
+    sky_sun, shape, floor, offset, hemisphere = (lights.sky_sun, lights.sky_shape, lights.sky_floor,
+                                                 lights.sky_offset, lights.sky_hemisphere)
+    neutral, max_degree, depolarisation = lights.sky_neutral, lights.sky_max_degree, lights.sky_depolarisation
+    table, sky_nee, n_lights = lights.sky_table, lights.sky_nee, lights.n_lights
     c_bundle, c_combo, c_weight = found
-    shape_radiance(d[0], d[1], d[2], lights.sky_sun, lights.sky_shape, lights.sky_floor, lights.sky_offset,
-                   lights.sky_hemisphere, sky)
-    last_pdf = paths.last_pdf[i]
-    if lights.sky_nee and last_pdf > 0.0:
-        norm = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-        p_table = sky_density(lights.sky_table, d[0] / norm, d[1] / norm, d[2] / norm)
-        mis = last_pdf / (last_pdf + p_table)
+    sky, d, e_vector = np.empty(len(shape)), np.empty(3), np.empty(3)
+    for r in escaped:
+        i = live[r]
+        for k in range(3):
+            d[k] = rays[r, 3 + k]
+        shape_radiance(d[0], d[1], d[2], sky_sun, shape, floor, offset, hemisphere, sky)
+        if sky_nee and last_pdf[i] > 0.0:
+            norm = np.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            p_table = sky_density(table, d[0] / norm, d[1] / norm, d[2] / norm)
+            mis = last_pdf[i] / (last_pdf[i] + p_table)
+            for k in range(len(sky)):
+                sky[k] *= mis
+        size = c2 = s2 = 0.0
+        if len(mueller):
+            size = polarisation(du[r, 0], du[r, 1], du[r, 2], sky_sun, neutral, e_vector)
+            c2, s2 = double_angle(e_vector[0], e_vector[1], e_vector[2], frame[i], du[r])
         for k in range(len(sky)):
-            sky[k] *= mis
-    size = c2 = s2 = 0.0
-    if len(mueller):
-        size = polarisation(du[0], du[1], du[2], lights.sky_sun, lights.sky_neutral, at.e_vector)
-        c2, s2 = double_angle(at.e_vector[0], at.e_vector[1], at.e_vector[2], paths.frame[i], du)
-    for k in range(len(sky)):
-        if sky[k] != 0.0:
-            c_bundle[nc], c_combo[nc] = paths.bundle[i], paths.key[i] * lights.n_lights + k
-            if not len(mueller):
-                c_weight[nc, 0] = paths.w[i] * sky[k]
-            else:
-                # The degree at the basis spectrum's wavelength.
-                p = degree(size, lights.sky_max_degree, lights.sky_depolarisation[k])
-                q_sky, u_sky = p * c2, p * s2
-                for q in range(3):
-                    c_weight[nc, q] = paths.w[i] * sky[k] * (mueller[i, q, 0] + mueller[i, q, 1] * q_sky
-                                                             + mueller[i, q, 2] * u_sky)
-            nc += 1
+            if sky[k] != 0.0:
+                c_bundle[nc], c_combo[nc] = bundle[i], key[i] * n_lights + k
+                if not len(mueller):
+                    c_weight[nc, 0] = w[i] * sky[k]
+                else:
+                    # The degree at the basis spectrum's wavelength.
+                    p = degree(size, max_degree, depolarisation[k])
+                    q_sky, u_sky = p * c2, p * s2
+                    for q in range(3):
+                        c_weight[nc, q] = w[i] * sky[k] * (mueller[i, q, 0] + mueller[i, q, 1] * q_sky
+                                                           + mueller[i, q, 2] * u_sky)
+                nc += 1
     return nc
 
 
 @stage
-def _sun_seen(i, paths, lights, cones, at, found, nc):
-    """The sun's light where path ``i``'s first ray leaves the scene within its disc, appended to the
-    contributions ``found`` at row ``nc``; in a receptor's cone, weighed against the sun's own samples
+def _sun_seen(escaped, live, paths, lights, cones, found, nc):
+    """The sun's light where the paths' first rays leave the scene within its disc, appended to the
+    contributions ``found`` from row ``nc``; in a receptor's cone, weighed against the sun's own samples
     (:func:`_sun_in_cones`) by the balance heuristic. Returns the contributions' new count."""
-    d, sun_dir, b = at.d, lights.sun_dir, paths.bundle[i]
-    if d[0] * sun_dir[0] + d[1] * sun_dir[1] + d[2] * sun_dir[2] < lights.sun_cos:
-        return nc
-    weight = paths.w[i]
-    sigma = cones.sigma[b]
-    if sigma > 0.0:
-        cos_a = cones.axis[b, 0] * d[0] + cones.axis[b, 1] * d[1] + cones.axis[b, 2] * d[2]
-        q = cone_density(np.arccos(min(max(cos_a, -1.0), 1.0)), sigma)
-        weight *= q / (q + 1.0 / lights.sun_solid_angle)
-    found[0][nc], found[1][nc] = b, paths.key[i] * lights.n_lights + lights.sun_row
-    _put(found[2][nc], weight, paths.mueller, i)
-    return nc + 1
+    rays, w, key, bundle, mueller = paths.rays, paths.w, paths.key, paths.bundle, paths.mueller
+    sun_dir, sun_cos, p_sun, column = lights.sun_dir, lights.sun_cos, 1.0 / lights.sun_solid_angle, lights.sun_row
+    axis, sigma = cones.axis, cones.sigma
+    c_bundle, c_combo, c_weight = found
+    for r in escaped:
+        x, y, z = np.float64(rays[r, 3]), np.float64(rays[r, 4]), np.float64(rays[r, 5])
+        if not x * sun_dir[0] + y * sun_dir[1] + z * sun_dir[2] >= sun_cos:
+            continue
+        i = live[r]
+        b = bundle[i]
+        weight = w[i]
+        if sigma[b] > 0.0:
+            cos_a = axis[b, 0] * x + axis[b, 1] * y + axis[b, 2] * z
+            q = cone_density(np.arccos(min(max(cos_a, -1.0), 1.0)), sigma[b])
+            weight *= q / (q + p_sun)
+        c_bundle[nc], c_combo[nc] = b, key[i] * lights.n_lights + column
+        _put(c_weight[nc], weight, mueller, i)
+        nc += 1
+    return nc
 
 
 @stage
-def _emission(i, mat, paths, surfaces, lights, found, nc):
-    """The light of the glowing material ``mat`` that path ``i`` meets, appended to the contributions
-    ``found`` at row ``nc``. Returns their new count."""
-    found[0][nc], found[1][nc] = paths.bundle[i], paths.key[i] * lights.n_lights + surfaces.emission_row + mat
-    _put(found[2][nc], paths.w[i], paths.mueller, i)
-    return nc + 1
+def _emission(met, live, paths, hits, surfaces, lights, found, nc):
+    """The light of the glowing materials the paths meet, appended to the contributions ``found`` from row
+    ``nc``. Returns their new count."""
+    material, w, key, bundle, mueller, glows = hits.material, paths.w, paths.key, paths.bundle, paths.mueller, surfaces.glows
+    row, n_lights = surfaces.emission_row, lights.n_lights
+    c_bundle, c_combo, c_weight = found
+    for r in met:
+        mat = material[r]
+        if not glows[mat]:
+            continue
+        i = live[r]
+        c_bundle[nc], c_combo[nc] = bundle[i], key[i] * n_lights + row + mat
+        _put(c_weight[nc], w[i], mueller, i)
+        nc += 1
+    return nc
 
 
 @stage
-def _meet(r, rays, hits, eps, at):
-    """Where live ray ``r`` meets a surface: the normal facing the ray, the mirror direction and the view into
-    ``at``, and the ray's origin moved to the point just off the surface. Returns the cosine of incidence."""
-    d, normal = at.d, at.normal
-    cos_o = 0.0
-    for k in range(3):
-        normal[k] = hits.normals[r, k]
-        cos_o -= normal[k] * d[k]
-    if cos_o < 0.0:
+def _meet(met, live, paths, hits, surfaces, sequences, numbers, eps, at):
+    """Where the live rays meet surfaces: the normal facing each ray, the mirror direction, the view, the
+    glossy lobe's probability and the key after a diffuse scattering into ``at``; each ray's origin moved to
+    the point just off the surface."""
+    rays, key, material, normals, t_hit = paths.rays, paths.key, hits.material, hits.normals, hits.t_hit
+    normal, mirror, back, p_glossy, rho_key = at.normal, at.mirror, at.back, at.p_glossy, at.rho_key
+    specular, mean_rho, roughness, coat_table = (surfaces.specular, surfaces.mean_rho, surfaces.roughness,
+                                                 surfaces.coat_table)
+    radix = surfaces.radix
+    for r in met:
+        mat = material[r]
+        cos_o = 0.0
         for k in range(3):
-            normal[k] = -normal[k]
-        cos_o = -cos_o
+            normal[r, k] = normals[r, k]
+            cos_o -= normal[r, k] * np.float64(rays[r, 3 + k])
+        if cos_o < 0.0:
+            for k in range(3):
+                normal[r, k] = -normal[r, k]
+            cos_o = -cos_o
+        for k in range(3):
+            d = np.float64(rays[r, 3 + k])
+            mirror[r, k] = 2.0 * cos_o * normal[r, k] + d
+            back[r, k] = -d
+            rays[r, k] = np.float64(rays[r, k]) + np.float64(t_hit[r]) * d + eps * normal[r, k]
+        p_glossy[r] = glossy_share(cos_o, specular[mat], mean_rho[mat], roughness[mat], coat_table[mat])
+        rho_key[r] = _number(sequences, numbers, sequences[key[live[r]]] * radix + (mat + 1))
+
+
+@stage
+def _vertex(r, normals, mirrors, backs, dus, normal, mirror, back, du):
+    """Row ``r`` of :class:`Vertices`' ``normals``, ``mirrors``, ``backs`` and, with polarisation, ``dus`` into
+    the (3,) arrays ``normal``, ``mirror``, ``back`` and ``du`` that the scattering functions take."""
     for k in range(3):
-        at.mirror[k] = 2.0 * cos_o * normal[k] + d[k]
-        at.back[k] = -d[k]
-        rays[r, k] = np.float64(rays[r, k]) + np.float64(hits.t_hit[r]) * d[k] + eps * normal[k]
-    return cos_o
+        normal[k], mirror[k], back[k] = normals[r, k], mirrors[r, k], backs[r, k]
+    if len(dus):
+        for k in range(3):
+            du[k] = dus[r, k]
 
 
 @stage
-def _shadow_ray(shadows, n, origin, x, y, z, diffuse_key, glossy_key, r):
-    """Row ``n`` of ``shadows``: the ray from ``origin`` (its first three values) towards (x, y, z), the keys of
-    its two lobes, and the live row ``r`` it leaves."""
-    rays = shadows.rays
-    rays[n, 0], rays[n, 1], rays[n, 2] = origin[0], origin[1], origin[2]
-    rays[n, 3], rays[n, 4], rays[n, 5] = x, y, z
-    shadows.key[n, 0], shadows.key[n, 1], shadows.row[n] = diffuse_key, glossy_key, r
-
-
-@stage
-def _sun_nee(r, i, mat, dim, p_glossy, rho_key, paths, surfaces, lights, seed, at, sun, ns):
-    """Next-event estimation towards the sun's disc, sampled uniformly, from where path ``i`` (live row ``r``)
-    meets material ``mat``: the shadow ray and the light it brings, appended to ``sun`` at row ``ns`` where
-    the sample is above the surface. Returns the rows' new count."""
-    lx, ly, lz = sample_sun(lights.sun_dir, lights.sun_cos, _uniform(seed, paths, i, dim),
-                            _uniform(seed, paths, i, dim + 1))
-    normal, du, s_plane, mueller = at.normal, at.du, at.s_plane, paths.mueller
-    cos_l = normal[0] * lx + normal[1] * ly + normal[2] * lz
-    if not cos_l > 0.0:
-        return ns
-    _shadow_ray(sun, ns, paths.rays[r], lx, ly, lz, rho_key, paths.key[i], r)
-    eta = surfaces.refractive_index[mat]
-    base = paths.w[i] * cos_l * lights.sun_solid_angle
-    diffuse, f, _, _ = lobes(normal, at.mirror, at.back, lx, ly, lz, surfaces.specular[mat], surfaces.exponent[mat],
-                             surfaces.roughness[mat], eta, surfaces.coat_table[mat], p_glossy)
-    glint = base * f
-    lit = sun.lit[ns]
-    _put(lit[0, 0], base / np.pi * diffuse, mueller, i)
-    _put(lit[1, 0], glint, mueller, i)
-    if len(mueller) and glint != 0.0:
-        # The sun's unpolarised light, polarised by the glossy reflection.
-        plane_normal(du, lx, ly, lz, s_plane)
-        c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], paths.frame[i], du)
-        lit[1, 0, 0], lit[1, 0, 1], lit[1, 0, 2] = reflect_column(mueller[i], c2, s2, _half_cosine(du, lx, ly, lz),
-                                                                  eta)
-        for q in range(3):
-            lit[1, 0, q] *= glint
-    return ns + 1
-
-
-@stage
-def _sky_nee(r, i, mat, dim, p_glossy, rho_key, paths, surfaces, lights, seed, at, sky, nk):
-    """Next-event estimation towards the sky, drawn from its table, from where path ``i`` (live row ``r``) meets
-    material ``mat``: each lobe's sample weighed against the surface's own sampling of that lobe by the
-    balance heuristic. The shadow ray and the light it brings per basis spectrum, appended to ``sky`` at row
-    ``nk`` where the sample is above the surface. Returns the rows' new count."""
-    lx, ly, lz, p_table = sample_sky(lights.sky_rows, lights.sky_cols, lights.sky_table,
-                                     _uniform(seed, paths, i, dim + 6), _uniform(seed, paths, i, dim + 7))
-    normal, du, s_plane, e_vector, chain, radiance = at.normal, at.du, at.s_plane, at.e_vector, at.chain, at.sky
-    mueller = paths.mueller
-    cos_l = normal[0] * lx + normal[1] * ly + normal[2] * lz
-    if not (cos_l > 0.0 and p_table > 0.0):
-        return nk
-    shape_radiance(lx, ly, lz, lights.sky_sun, lights.sky_shape, lights.sky_floor, lights.sky_offset,
-                   lights.sky_hemisphere, radiance)
-    eta = surfaces.refractive_index[mat]
-    # Both lobes, and the densities with which each lobe's own sampling would have drawn this direction.
-    coupled, f, p_diffuse, p_lobe = lobes(normal, at.mirror, at.back, lx, ly, lz, surfaces.specular[mat],
-                                          surfaces.exponent[mat], surfaces.roughness[mat], eta,
-                                          surfaces.coat_table[mat], p_glossy)
-    base = paths.w[i] * cos_l / p_table
-    diffuse = base / np.pi * coupled * p_table / (p_table + p_diffuse)
-    glint = base * f * p_table / (p_table + p_lobe)
-    size = c2 = s2 = 0.0
-    if len(mueller):
-        size = polarisation(lx, ly, lz, lights.sky_sun, lights.sky_neutral, e_vector)
-        # The chain as the glossy lobe's reflection towards the sample would leave it.
-        plane_normal(du, lx, ly, lz, s_plane)
-        chain[:] = mueller[i]
-        c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], paths.frame[i], du)
-        reflect(chain, c2, s2, _half_cosine(du, lx, ly, lz), eta)
-        at.dl[0], at.dl[1], at.dl[2] = lx, ly, lz
-        c2, s2 = double_angle(e_vector[0], e_vector[1], e_vector[2], s_plane, at.dl)
-    lit = sky.lit[nk]
-    for k in range(len(radiance)):
-        if not len(mueller):
-            lit[0, k, 0] = diffuse * radiance[k]
-            lit[1, k, 0] = glint * radiance[k]
-        else:
-            # The Lambertian lobe depolarises; the glossy one reflects the sky's polarisation.
-            p = degree(size, lights.sky_max_degree, lights.sky_depolarisation[k])
+def _sun_nee(dim, met, live, paths, hits, surfaces, lights, seed, at, sun):
+    """Next-event estimation towards the sun's disc, sampled uniformly, from where the paths meet surfaces:
+    the shadow rays and the light each brings, into ``sun``, from each point the sample is above. Returns
+    their count."""
+    rays, material, w, key, mueller, frame = paths.rays, hits.material, paths.w, paths.key, paths.mueller, paths.frame
+    stream, sample = paths.stream, paths.sample
+    specular, exponent, roughness, eta, coat_table = (surfaces.specular, surfaces.exponent, surfaces.roughness,
+                                                      surfaces.refractive_index, surfaces.coat_table)
+    sun_dir, sun_cos, solid_angle = lights.sun_dir, lights.sun_cos, lights.sun_solid_angle
+    shadow, shadow_row, lit, lit_key, p_glossy, rho_key = sun.rays, sun.row, sun.lit, sun.key, at.p_glossy, at.rho_key
+    normals, mirrors, backs, dus = at.normal, at.mirror, at.back, at.du
+    normal, mirror, back, du, s_plane = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    ns = 0
+    for r in met:
+        mat, i = material[r], live[r]
+        _vertex(r, normals, mirrors, backs, dus, normal, mirror, back, du)
+        lx, ly, lz = sample_sun(sun_dir, sun_cos, uniform1(seed, stream[i], sample[i], dim),
+                                uniform1(seed, stream[i], sample[i], dim + 1))
+        cos_l = normal[0] * lx + normal[1] * ly + normal[2] * lz
+        if not cos_l > 0.0:
+            continue
+        _shadow_ray(shadow, shadow_row, lit_key, ns, rays, r, lx, ly, lz, rho_key[r], key[i])
+        base = w[i] * cos_l * solid_angle
+        diffuse, f, _, _ = lobes(normal, mirror, back, lx, ly, lz, specular[mat], exponent[mat], roughness[mat],
+                                 eta[mat], coat_table[mat], p_glossy[r])
+        glint = base * f
+        _put(lit[ns, 0, 0], base / np.pi * diffuse, mueller, i)
+        _put(lit[ns, 1, 0], glint, mueller, i)
+        if len(mueller) and glint != 0.0:
+            # The sun's unpolarised light, polarised by the glossy reflection.
+            plane_normal(du, lx, ly, lz, s_plane)
+            c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
+            lit[ns, 1, 0, 0], lit[ns, 1, 0, 1], lit[ns, 1, 0, 2] = reflect_column(
+                mueller[i], c2, s2, _half_cosine(du, lx, ly, lz), eta[mat])
             for q in range(3):
-                lit[0, k, q] = diffuse * radiance[k] * mueller[i, q, 0]
-                lit[1, k, q] = glint * radiance[k] * (chain[q, 0] + chain[q, 1] * p * c2 + chain[q, 2] * p * s2)
-    _shadow_ray(sky, nk, paths.rays[r], lx, ly, lz, rho_key, paths.key[i], r)
-    return nk + 1
+                lit[ns, 1, 0, q] *= glint
+        ns += 1
+    return ns
 
 
 @stage
-def _scatter(event, r, i, mat, dim, rho_key, paths, surfaces, sky_nee, seed, at):
-    """Path ``i`` (live row ``r``) scattered by material ``mat``: its next direction drawn from the BSDF into
-    its ray; its weight, key, bound and (with ``sky_nee``) last density, and its polarisation, updated; after
-    :data:`ROULETTE_AFTER` events, Russian roulette. Returns whether the path goes on."""
-    eta, w, du, s_plane = surfaces.refractive_index[mat], paths.w, at.du, at.s_plane
-    x, y, z, factor, glossy, density = scatter(at.normal, at.mirror, at.back, surfaces.specular[mat],
-                                               surfaces.exponent[mat], surfaces.mean_rho[mat],
-                                               surfaces.roughness[mat], eta, surfaces.coat_table[mat],
-                                               _uniform(seed, paths, i, dim + 2), _uniform(seed, paths, i, dim + 3),
-                                               _uniform(seed, paths, i, dim + 4))
-    w[i] *= factor
-    if sky_nee:
-        paths.last_pdf[i] = density
-    if len(paths.mueller):
-        plane_normal(du, x, y, z, s_plane)
-        if glossy:
-            c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], paths.frame[i], du)
-            reflect(paths.mueller[i], c2, s2, _half_cosine(du, x, y, z), eta)
-        else:
-            depolarise(paths.mueller[i])
-        paths.frame[i] = s_plane
-    if not glossy:
-        paths.key[i] = rho_key
-        paths.bound[i] *= surfaces.max_rho[mat]
-    if event + 1 >= ROULETTE_AFTER:
-        q = min(max(w[i] * paths.bound[i], 0.0), 1.0)
-        w[i] = w[i] / max(q, 1e-300) if _uniform(seed, paths, i, dim + 5) < q else 0.0
-    paths.rays[r, 3], paths.rays[r, 4], paths.rays[r, 5] = x, y, z
-    return w[i] > 0.0
+def _shadow_ray(shadow, row, keys, n, rays, r, x, y, z, diffuse_key, glossy_key):
+    """Shadow ray ``n``: from live ray ``r``'s origin towards (x, y, z), with its two lobes' keys."""
+    shadow[n, 0], shadow[n, 1], shadow[n, 2] = rays[r, 0], rays[r, 1], rays[r, 2]
+    shadow[n, 3], shadow[n, 4], shadow[n, 5] = x, y, z
+    keys[n, 0], keys[n, 1], row[n] = diffuse_key, glossy_key, r
+
+
+@stage
+def _sky_nee(dim, met, live, paths, hits, surfaces, lights, seed, at, sky):
+    """Next-event estimation towards the sky, drawn from its table, from where the paths meet surfaces that
+    reflect: each lobe's sample weighed against the surface's own sampling of that lobe by the balance
+    heuristic. The shadow rays and the light each brings per basis spectrum, into ``sky``, from each point
+    the sample is above. Returns their count."""
+    rays, material, w, key, mueller, frame = paths.rays, hits.material, paths.w, paths.key, paths.mueller, paths.frame
+    stream, sample = paths.stream, paths.sample
+    specular, exponent, roughness, eta, coat_table, mean_rho = (
+        surfaces.specular, surfaces.exponent, surfaces.roughness, surfaces.refractive_index, surfaces.coat_table,
+        surfaces.mean_rho)
+    sky_sun, shape, floor, offset, hemisphere = (lights.sky_sun, lights.sky_shape, lights.sky_floor,
+                                                 lights.sky_offset, lights.sky_hemisphere)
+    neutral, max_degree, depolarisation = lights.sky_neutral, lights.sky_max_degree, lights.sky_depolarisation
+    row_cdf, col_cdf, table = lights.sky_rows, lights.sky_cols, lights.sky_table
+    shadow, shadow_row, lit, lit_key, p_glossy, rho_key = sky.rays, sky.row, sky.lit, sky.key, at.p_glossy, at.rho_key
+    normals, mirrors, backs, dus = at.normal, at.mirror, at.back, at.du
+    normal, mirror, back, du, s_plane = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    e_vector, dl, chain, radiance = np.empty(3), np.empty(3), np.empty((3, 3)), np.empty(len(shape))
+    nk = 0
+    for r in met:
+        mat, i = material[r], live[r]
+        if not (roughness[mat] > 0.0 or mean_rho[mat] + specular[mat] > 0.0):
+            continue
+        _vertex(r, normals, mirrors, backs, dus, normal, mirror, back, du)
+        lx, ly, lz, p_table = sample_sky(row_cdf, col_cdf, table, uniform1(seed, stream[i], sample[i], dim + 6),
+                                         uniform1(seed, stream[i], sample[i], dim + 7))
+        cos_l = normal[0] * lx + normal[1] * ly + normal[2] * lz
+        if not (cos_l > 0.0 and p_table > 0.0):
+            continue
+        shape_radiance(lx, ly, lz, sky_sun, shape, floor, offset, hemisphere, radiance)
+        # Both lobes, and the densities with which each lobe's own sampling would have drawn this direction.
+        coupled, f, p_diffuse, p_lobe = lobes(normal, mirror, back, lx, ly, lz, specular[mat], exponent[mat],
+                                              roughness[mat], eta[mat], coat_table[mat], p_glossy[r])
+        base = w[i] * cos_l / p_table
+        diffuse = base / np.pi * coupled * p_table / (p_table + p_diffuse)
+        glint = base * f * p_table / (p_table + p_lobe)
+        size = c2 = s2 = 0.0
+        if len(mueller):
+            size = polarisation(lx, ly, lz, sky_sun, neutral, e_vector)
+            # The chain as the glossy lobe's reflection towards the sample would leave it.
+            plane_normal(du, lx, ly, lz, s_plane)
+            chain[:] = mueller[i]
+            c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
+            reflect(chain, c2, s2, _half_cosine(du, lx, ly, lz), eta[mat])
+            dl[0], dl[1], dl[2] = lx, ly, lz
+            c2, s2 = double_angle(e_vector[0], e_vector[1], e_vector[2], s_plane, dl)
+        for k in range(len(radiance)):
+            if not len(mueller):
+                lit[nk, 0, k, 0] = diffuse * radiance[k]
+                lit[nk, 1, k, 0] = glint * radiance[k]
+            else:
+                # The Lambertian lobe depolarises; the glossy one reflects the sky's polarisation.
+                p = degree(size, max_degree, depolarisation[k])
+                for q in range(3):
+                    lit[nk, 0, k, q] = diffuse * radiance[k] * mueller[i, q, 0]
+                    lit[nk, 1, k, q] = glint * radiance[k] * (chain[q, 0] + chain[q, 1] * p * c2
+                                                              + chain[q, 2] * p * s2)
+        _shadow_ray(shadow, shadow_row, lit_key, nk, rays, r, lx, ly, lz, rho_key[r], key[i])
+        nk += 1
+    return nk
+
+
+@stage
+def _scatter(event, dim, met, live, paths, hits, surfaces, sky_nee, seed, at, scattered):
+    """The paths that met surfaces, scattered: each one's next direction drawn from the BSDF into its ray; its
+    weight, key, bound and (with ``sky_nee``) last density, and its polarisation, updated; after
+    :data:`ROULETTE_AFTER` events, Russian roulette. Marks in ``scattered`` the paths that go on."""
+    rays, material, w, key, bound, mueller, frame = (paths.rays, hits.material, paths.w, paths.key, paths.bound,
+                                                     paths.mueller, paths.frame)
+    stream, sample, last_pdf, rho_key = paths.stream, paths.sample, paths.last_pdf, at.rho_key
+    specular, exponent, roughness, eta, coat_table, mean_rho, max_rho = (
+        surfaces.specular, surfaces.exponent, surfaces.roughness, surfaces.refractive_index, surfaces.coat_table,
+        surfaces.mean_rho, surfaces.max_rho)
+    normals, mirrors, backs, dus = at.normal, at.mirror, at.back, at.du
+    normal, mirror, back, du, s_plane = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    for r in met:
+        mat, i = material[r], live[r]
+        _vertex(r, normals, mirrors, backs, dus, normal, mirror, back, du)
+        x, y, z, factor, glossy, density = scatter(normal, mirror, back, specular[mat], exponent[mat], mean_rho[mat],
+                                                   roughness[mat], eta[mat], coat_table[mat],
+                                                   uniform1(seed, stream[i], sample[i], dim + 2),
+                                                   uniform1(seed, stream[i], sample[i], dim + 3),
+                                                   uniform1(seed, stream[i], sample[i], dim + 4))
+        w[i] *= factor
+        if sky_nee:
+            last_pdf[i] = density
+        if len(mueller):
+            plane_normal(du, x, y, z, s_plane)
+            if glossy:
+                c2, s2 = double_angle(s_plane[0], s_plane[1], s_plane[2], frame[i], du)
+                reflect(mueller[i], c2, s2, _half_cosine(du, x, y, z), eta[mat])
+            else:
+                depolarise(mueller[i])
+            frame[i] = s_plane
+        if not glossy:
+            key[i] = rho_key[r]
+            bound[i] *= max_rho[mat]
+        if event + 1 >= ROULETTE_AFTER:
+            q = min(max(w[i] * bound[i], 0.0), 1.0)
+            w[i] = w[i] / max(q, 1e-300) if uniform1(seed, stream[i], sample[i], dim + 5) < q else 0.0
+        rays[r, 3], rays[r, 4], rays[r, 5] = x, y, z
+        scattered[r] = w[i] > 0.0
 
 
 @kernel
