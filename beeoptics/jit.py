@@ -40,10 +40,10 @@ def kernel(function):
 
 
 def stage(function):
-    """A :func:`kernel` that only other kernels call, as one stage of theirs: compiled into each kernel that
-    calls it (numba's ``inline="always"``), not on its own with the wrappers that let Python call it, so that a
-    kernel split into named stages takes about as long to compile as it did whole (measured on the tracer's:
-    +9 % of the CPU time, where stages compiled on their own took +50 %).
+    """A :func:`kernel` that only another kernel calls, as one of its stages: compiled into that kernel (numba's
+    ``inline="always"``), not on its own with the wrappers that let Python call it, which for a stage taking
+    named tuples of arrays cost more to compile than the stage. A helper called from many places stays a
+    kernel: inlined, numba would copy and compile it at every call.
     """
     return Kernel(function, inline=True)
 

@@ -206,7 +206,7 @@ class Vertices(NamedTuple):
     rho_key: np.ndarray
 
 
-@stage
+@kernel
 def _put(out, scale, mueller, i):
     """A contribution's weight ``out`` (1 or 3,): ``scale`` alone (intensity only), or times the Stokes vector
     that unpolarised light arriving in path ``i``'s frame makes at its bundle (the first column of its Mueller
@@ -418,7 +418,7 @@ def _meet(met, live, paths, hits, surfaces, sequences, numbers, eps, at):
         rho_key[r] = _number(sequences, numbers, sequences[key[live[r]]] * radix + (mat + 1))
 
 
-@stage
+@kernel
 def _vertex(r, normals, mirrors, backs, dus, normal, mirror, back, du):
     """Row ``r`` of :class:`Vertices`' ``normals``, ``mirrors``, ``backs`` and, with polarisation, ``dus`` into
     the (3,) arrays ``normal``, ``mirror``, ``back`` and ``du`` that the scattering functions take."""
@@ -470,7 +470,7 @@ def _sun_nee(dim, met, live, paths, hits, surfaces, lights, seed, at, sun):
     return ns
 
 
-@stage
+@kernel
 def _shadow_ray(shadow, row, keys, n, rays, r, x, y, z, diffuse_key, glossy_key):
     """Shadow ray ``n``: from live ray ``r``'s origin towards (x, y, z), with its two lobes' keys."""
     shadow[n, 0], shadow[n, 1], shadow[n, 2] = rays[r, 0], rays[r, 1], rays[r, 2]
