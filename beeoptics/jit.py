@@ -39,12 +39,22 @@ def kernel(function):
     return Kernel(function)
 
 
-class Kernel:
-    """A function numba compiles on its first call (:func:`kernel`)."""
+def stage(function):
+    """A :func:`kernel` that only another kernel calls, as one of its stages: compiled into that kernel (numba's
+    ``inline="always"``), not on its own with the wrappers that let Python call it, which for a stage taking
+    named tuples of arrays cost more to compile than the stage. A helper called from many places stays a
+    kernel: inlined, numba would copy and compile it at every call.
+    """
+    return Kernel(function, inline=True)
 
-    def __init__(self, function):
+
+class Kernel:
+    """A function numba compiles on its first call (:func:`kernel`, :func:`stage`)."""
+
+    def __init__(self, function, inline=False):
         functools.update_wrapper(self, function)
         self.py_func = function
+        self._options = {"inline": "always"} if inline else {}
         self._compiled = None
 
     def compiled(self):
@@ -62,7 +72,8 @@ class Kernel:
                             scope[name] = value.compiled()
                         elif isinstance(value, NumbaModule):
                             scope[name] = importlib.import_module(value.name)
-                    self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy")(self.py_func)
+                    self._compiled = numba.njit(cache=True, nogil=True, error_model="numpy",
+                                                **self._options)(self.py_func)
         return self._compiled
 
     def __call__(self, *args, **kwargs):

@@ -327,3 +327,64 @@ def test_sampling_a_sky_with_a_bright_aureole_from_its_compensated_table_is_unbi
     ratio = out["nee"] / out["escape"] - 1.0
     assert abs(ratio.mean()) < max(4.0 * ratio.std() / np.sqrt(len(ratio)), 1e-3)
     assert abs(ratio.mean()) < 0.02
+
+
+#: A scene with every kind of light and surface the tracer's stages handle: a clear sky with its sun, a
+#: Lambertian lawn, a coated ball, a glossy pond that polarises, a glowing ball.
+EVERY_STAGE = {
+    "name": "every stage",
+    "light": {"sky": "hosek_wilkie", "turbidity": 3.0, "sun": True, "sun_elevation_deg": 40.0,
+              "sun_azimuth_deg": 60.0},
+    "eye": {"position_m": [0, 0, 0.3]},
+    "materials": {"lawn": {"reflectance": LEAF},
+                  "glaze": {"reflectance": 0.3, "coating": {"roughness": 0.2, "refractive_index": 1.5}},
+                  "pond": {"reflectance": 0.05, "gloss": {"specular": 0.5, "exponent": 30.0, "refractive_index": 1.33}},
+                  "lamp": {"reflectance": 0.2, "emission": 0.5}},
+    "objects": [{"primitive": {"plane": {"size_m": 50.0}}, "material": "lawn"},
+                {"primitive": {"sphere": {"radius_m": 0.15, "subdivisions": 3}}, "material": "glaze",
+                 "translate_m": [1.0, 0, 0.15]},
+                {"primitive": {"sphere": {"radius_m": 0.15, "subdivisions": 3}}, "material": "lamp",
+                 "translate_m": [0.8, 0.6, 0.15]},
+                {"primitive": {"plane": {"size_m": 1.0}}, "material": "pond", "translate_m": [0.7, -0.5, 0.01]}]}
+#: What :func:`every_stage_traced` gave before the kernel was split into stages (at cbedd1d with the sky table
+#: of MIS compensation and the replicates merged, the kernel still of 50 arguments).
+EVERY_STAGE_TRACED = ROOT / "tests" / "data" / "traced" / "every_stage.npz"
+
+
+def every_stage_traced(scene):
+    """Each way of tracing EVERY_STAGE (depth 1 and 3, the sky sampled or met by escape; intensity, Stokes
+    vectors, and cones with their sun and a target), each bundle's radiance summed over the grid and weighed by
+    the wavelength's index: a few numbers that any change to the tracer's light moves."""
+    axes = np.vstack([fan(4, np.subtract(at, scene.eye_position), 3, np.random.default_rng(8))
+                      for at in ([2.0, 0.0, 0.0], [0.8, 0.6, 0.15], [1.0, 0.0, 0.15], [0.7, -0.5, 0.01])]
+                     + [fan(4, scene.sun.direction, 1.5, np.random.default_rng(9))])
+    n = len(axes)
+    dirs, w = cone_samples(axes, 2.6, 32, 3)
+    origins = np.tile(scene.eye_position, (n, 1))
+    frames = tangent_frames(axes)[:, 0]
+    cones = (axes, np.full(n, cone_sigma(2.6)))
+    out = {}
+    for depth in (1, 3):
+        for sky in ("nee", "escape"):
+            case = dict(depth=depth, seed=5, sky_sampling=sky)
+            traced = {"intensity": trace_paths(scene, origins, dirs, w, **case),
+                      "stokes": trace_paths(scene, origins, dirs, w, frames=frames, **case)}
+            traced["cones"], out[f"d{depth}_{sky}_target"] = trace_paths(
+                scene, origins, dirs, w, cones=cones, target=([1.0, 0.0, 0.15], 0.3), streams=np.arange(n) + 11,
+                first_samples=np.full(n, 32), **case)
+            for name, radiance in traced.items():
+                out[f"d{depth}_{sky}_{name}"] = np.stack([radiance.sum(-1), radiance @ np.arange(radiance.shape[-1])])
+    return out
+
+
+def test_the_tracer_gives_the_light_it_gave_before_its_kernel_was_split_into_stages(tmp_path, wavelengths):
+    """The same numbers as the kernel of 50 arguments gave, to the last digits the machine's maths library may
+    change: a refactoring of the tracer's stages must leave its light as it was."""
+    scene = load_scene(write_scene(tmp_path / "s.yaml", EVERY_STAGE), wavelengths)
+    got = every_stage_traced(scene)
+    with np.load(EVERY_STAGE_TRACED) as want:
+        assert sorted(got) == sorted(want.files)
+        for name in want.files:
+            assert want[name].any(), name
+            np.testing.assert_allclose(got[name], want[name], rtol=1e-12, atol=1e-12 * np.abs(want[name]).max(),
+                                       err_msg=name)

@@ -48,6 +48,7 @@ PhD thesis, Stanford University.
 """
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -86,6 +87,55 @@ class Lights:
         self.sun = n_sky
         self.emission = n_sky + 1
         self.glows = scene.emission.max(axis=1) > 0.0
+
+
+class LightArrays(NamedTuple):
+    """The lights as the compiled integrator takes them: numba takes named tuples of arrays. Made once per
+    trace (:func:`beeoptics.light.integrator.trace_paths`); without a sun or a sky, their fields are
+    placeholders that ``sun_row`` < 0 or ``has_sky`` false leave unread.
+
+    Attributes
+    ----------
+    n_lights : int
+        Rows of :attr:`Lights.spectra`.
+    sun_row : int
+        The sun's row there, −1 without a sun.
+    sun_dir : ndarray (3,)
+        The unit direction towards the sun's centre.
+    sun_cos, sun_solid_angle : float
+        The cosine of the disc's angular radius, and its solid angle, sr.
+    has_sky : bool
+    sky_sun, sky_shape, sky_floor, sky_offset, sky_hemisphere
+        The sky's shape model (:func:`beeoptics.light.hosekwilkie.shape_radiance`), one row of ``sky_shape``
+        per basis spectrum; its rows are the lights' first.
+    sky_neutral, sky_max_degree : ndarray (2,), float
+        The sky's polarisation (:func:`beeoptics.light.skypolarisation.polarisation`, ``degree``).
+    sky_depolarisation : ndarray (basis spectra,)
+        Its depolarisation at each basis spectrum's wavelength.
+    sky_nee : bool
+        Whether the sky is sampled from every surface, from its table:
+    sky_rows, sky_cols, sky_table : ndarray
+        :func:`sky_table`'s cumulative rows and cells and density, sr⁻¹.
+    """
+
+    n_lights: int
+    sun_row: int
+    sun_dir: np.ndarray
+    sun_cos: float
+    sun_solid_angle: float
+    has_sky: bool
+    sky_sun: np.ndarray
+    sky_shape: np.ndarray
+    sky_floor: float
+    sky_offset: float
+    sky_hemisphere: bool
+    sky_neutral: np.ndarray
+    sky_max_degree: float
+    sky_depolarisation: np.ndarray
+    sky_nee: bool
+    sky_rows: np.ndarray
+    sky_cols: np.ndarray
+    sky_table: np.ndarray
 
 
 @kernel

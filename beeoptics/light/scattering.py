@@ -19,6 +19,8 @@ Lafortune EP, Willems YD (1994) Using the modified Phong reflectance model
 for physically based rendering. Report CW197, KU Leuven.
 """
 
+from typing import NamedTuple
+
 import numpy as np
 
 from beeoptics.jit import kernel
@@ -80,6 +82,35 @@ class Surfaces:
             row = np.floor((1.0 - st[:, 1]) * h).astype(np.int64) % h
             m[hit] = o.texture[row, col]
         return m
+
+
+class SurfaceArrays(NamedTuple):
+    """Each material's scattering and emission as the compiled integrator takes them: numba takes named tuples
+    of arrays. Made once per trace (:func:`beeoptics.light.integrator.trace_paths`).
+
+    Attributes
+    ----------
+    specular, exponent, roughness, refractive_index, coat_table, mean_rho, max_rho : ndarray
+        :class:`Surfaces`' own.
+    glows : ndarray of bool (materials,)
+        Whether each material emits.
+    emission_row : int
+        The row of the first material's emission among the lights
+        (:class:`beeoptics.light.emitters.Lights`); material m's is ``emission_row + m``.
+    radix : int
+        The materials plus one: the base of the integer that numbers a path's sequence of materials.
+    """
+
+    specular: np.ndarray
+    exponent: np.ndarray
+    roughness: np.ndarray
+    refractive_index: np.ndarray
+    coat_table: np.ndarray
+    mean_rho: np.ndarray
+    max_rho: np.ndarray
+    glows: np.ndarray
+    emission_row: int
+    radix: int
 
 
 @kernel

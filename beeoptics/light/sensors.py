@@ -16,6 +16,8 @@ The pinhole camera jitters its rays over each pixel; the human and the bee
 images of a scene then differ only in the eye.
 """
 
+from typing import NamedTuple
+
 import numpy as np
 
 from beeoptics.eye.optics import FOUR_LN2
@@ -26,6 +28,21 @@ from beeoptics.light.sampler import shifted_halton, tangent_frame
 CONE_DIMENSIONS = (250, 251)
 #: Random dimensions of a pixel's sub-pixel shift, apart from those of receptor cones.
 PIXEL_DIMENSIONS = (252, 253)
+
+
+class Cones(NamedTuple):
+    """Receptors' acceptance cones as the compiled integrator takes them (numba takes named tuples of arrays).
+
+    Attributes
+    ----------
+    axis : ndarray (n, 3)
+        Each bundle's unit axis.
+    sigma : ndarray (n,)
+        Its Gaussian σ, radians (:func:`cone_sigma`); 0 for a bundle that is not a cone (a pixel).
+    """
+
+    axis: np.ndarray
+    sigma: np.ndarray
 
 
 def cone_samples(axes, delta_rho_deg, samples, seed, streams=None, first_samples=None):
