@@ -90,7 +90,7 @@ def test_the_colour_columns_follow_from_the_tables_own_catches(tmp_path, species
 
 def test_with_replicate_catches_each_colour_column_has_its_standard_error_beside_it(tmp_path):
     rs = load_receptor_set("apis_mellifera")
-    table, _, wl = _responses(tmp_path, rs, "scene")
+    table, _, wl, _ = _responses(tmp_path, rs, "scene")
     receptors, scene = read_receptors(tmp_path / "receptors.csv"), load_scene(FLOWER, wl, geometry=False)
     radiance = np.load(tmp_path / "part.npz")["radiance"]
     q = np.column_stack([table[c] for c in rs.classes]).astype(float)
@@ -118,7 +118,7 @@ def test_with_replicate_catches_each_colour_column_has_its_standard_error_beside
 
 def test_the_readme_names_every_column_of_responses_csv(tmp_path):
     rs = load_receptor_set("apis_mellifera")
-    table, _, wl = _responses(tmp_path, rs, "scene")
+    table, _, wl, _ = _responses(tmp_path, rs, "scene")
     receptors, scene = read_receptors(tmp_path / "receptors.csv"), load_scene(FLOWER, wl, geometry=False)
     q = np.column_stack([table[c] for c in rs.classes]).astype(float)
     columns, _ = respond(receptors, np.load(tmp_path / "part.npz")["radiance"], scene, wl, FLOWER, receptor_set=rs,

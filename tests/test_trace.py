@@ -388,3 +388,17 @@ def test_the_tracer_gives_the_light_it_gave_before_its_kernel_was_split_into_sta
             assert want[name].any(), name
             np.testing.assert_allclose(got[name], want[name], rtol=1e-12, atol=1e-12 * np.abs(want[name]).max(),
                                        err_msg=name)
+
+
+def test_a_stream_beyond_the_samplers_numbering_is_refused(tmp_path, wavelengths):
+    # Streams from 2²⁴ share their key's bits with the random dimensions': two would draw the same numbers.
+    path = write_scene(tmp_path / "s.yaml", {
+        "name": "plane", "light": {"sky": "uniform", "radiance": SKY, "sun": False}, "eye": {"position_m": [0, 0, 0.5]},
+        "materials": {"leaf": {"reflectance": LEAF}},
+        "objects": [{"primitive": {"plane": {"size_m": 10.0}}, "material": "leaf"}]})
+    scene = load_scene(path, wavelengths)
+    dirs, w = cone_samples(fan(2, [0, 0, -1], 10, np.random.default_rng(1)), 2.6, 4, 1)
+    origins = np.tile(scene.eye_position, (2, 1))
+    trace_paths(scene, origins, dirs, w, depth=1, seed=1, streams=np.array([0, (1 << 24) - 1]))
+    with pytest.raises(ValueError, match="streams must lie in 0"):
+        trace_paths(scene, origins, dirs, w, depth=1, seed=1, streams=np.array([0, 1 << 24]))

@@ -87,7 +87,7 @@ from beeoptics.jit import NumbaModule, kernel, stage
 from beeoptics.light.emitters import LightArrays, Lights, sample_sky, sample_sun, sky_density, sky_table
 from beeoptics.light.hosekwilkie import shape_radiance
 from beeoptics.light.mueller import depolarise, double_angle, plane_normal, reflect, reflect_column
-from beeoptics.light.sampler import shifted_halton, tangent_frames, uniform1
+from beeoptics.light.sampler import STREAMS, shifted_halton, tangent_frames, uniform1
 from beeoptics.light.scattering import SurfaceArrays, Surfaces, glossy_share, lobes, scatter
 from beeoptics.light.scene import raycasting_scene
 from beeoptics.light.skypolarisation import degree, polarisation
@@ -825,6 +825,8 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     sensor = Cones(np.zeros((n, 3)), np.zeros(n)) if cones is None else Cones(
         np.ascontiguousarray(cones[0], float), np.broadcast_to(np.asarray(cones[1], float), (n,)).copy())
 
+    if streams is not None and len(streams) and not 0 <= np.min(streams) <= np.max(streams) < STREAMS:
+        raise ValueError(f"streams must lie in 0 … {STREAMS - 1}, where each draws random numbers of its own")
     bundle = np.repeat(np.arange(n), s)
     stream = bundle if streams is None else np.repeat(streams, s)
     sample = np.tile(np.arange(s), n)

@@ -40,6 +40,9 @@ from beeoptics.jit import kernel
 
 #: Bits of a sample index below its replicate's index: a replicate holds at most 2²⁴ samples.
 REPLICATE_SHIFT = 24
+#: Streams a run may number: :func:`uniform1`'s key holds a stream in bits 32–55, and a larger one would
+#: share bits with the dimension's, so that two streams could draw the same numbers.
+STREAMS = 1 << 24
 
 _GOLDEN, _MIX1, _MIX2 = np.uint64(0x9E3779B97F4A7C15), np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB)
 

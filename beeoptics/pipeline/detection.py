@@ -25,6 +25,8 @@ from beeoptics.headframe import head_rotation
 from beeoptics.images import figures
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table, write_table
+from beeoptics.io.errors import InputError
+from beeoptics.light.sampler import STREAMS
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.pipeline.logs import log
 from beeoptics.pipeline.trace import trace_cones
@@ -102,6 +104,13 @@ def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectra
     chosen = sample_flowers(flowers, survey["flowers_per_species"], survey["seed"])
     spacing = survey["distances"]
     steps = np.geomspace(spacing["farthest_radii"], spacing["nearest_radii"], spacing["steps"])
+    # Every pose's receptors draw random numbers of their own (detect_views): the survey's poses times the
+    # receptors must fit the streams the sampler numbers.
+    poses = len(chosen) * survey["directions"] * spacing["steps"]
+    if poses * (int(table.id.max()) + 1) > STREAMS:
+        raise InputError("config", "detection", f"{poses} poses of {len(chosen)} flowers, {survey['directions']} "
+                         f"directions and {spacing['steps']} steps, each of {int(table.id.max()) + 1} receptors, "
+                         f"exceed the {STREAMS} random-number streams a run has: fewer flowers, directions or steps")
     turns = np.random.default_rng(survey["seed"]).uniform(0.0, 360.0, len(chosen))
     views, approaches = [], []
     for count, (f, turn) in enumerate(zip(chosen, turns)):
