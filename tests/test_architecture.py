@@ -73,3 +73,42 @@ def test_imports_point_down_the_pipeline(path):
     mine = part(".".join(rel.parts))
     for other, line in imports(path):
         assert other in ALLOWED[mine], f"{path.relative_to(ROOT)}:{line}: {mine} imports {other}"
+
+
+def module_imports(path):
+    """The package's modules a source file imports, by dotted name below ``beeoptics``: at its top and
+    inside functions alike (an import deferred for speed still ties the two modules)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("beeoptics"):
+            base = node.module.removeprefix("beeoptics").lstrip(".")
+            for a in node.names:
+                # ``from beeoptics.eye import fieldmodel`` imports the module eye.fieldmodel.
+                sub = PACKAGE.joinpath(*base.split("."), a.name) if base else PACKAGE / a.name
+                found.add(f"{base}.{a.name}".lstrip(".") if sub.is_dir() or sub.with_suffix(".py").is_file()
+                          else base)
+        elif isinstance(node, ast.Import):
+            found |= {a.name.removeprefix("beeoptics.") for a in node.names if a.name.startswith("beeoptics.")}
+    return found - {""}
+
+
+def test_no_two_modules_import_each_other_even_by_a_detour():
+    # A circle of imports (eye.build → eye.description → eye.given → eye.build) leaves no module to read first.
+    graph = {}
+    for path in sources():
+        rel = path.relative_to(PACKAGE).with_suffix("")
+        if rel.name != "__init__":
+            graph[".".join(rel.parts)] = {m for m in module_imports(path) if m != ".".join(rel.parts)}
+    state = {}
+
+    def visit(module, trail):
+        state[module] = "open"
+        for other in sorted(graph.get(module, ())):
+            assert state.get(other) != "open", " → ".join([*trail[trail.index(other):], other])
+            if other not in state:
+                visit(other, [*trail, other])
+        state[module] = "done"
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [module])

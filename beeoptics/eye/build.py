@@ -24,9 +24,8 @@ from scipy.spatial import cKDTree
 from threadpoolctl import threadpool_limits
 
 from beeoptics.eye.axismodel import field_axes
-from beeoptics.eye.description import FILL
 from beeoptics.eye.dorsalrim import dorsal_rim, rim_summary
-from beeoptics.eye.facetmap import anchor_vertices, diameter_map, fill_diameter
+from beeoptics.eye.facetmap import FILL, anchor_vertices, diameter_map, fill_diameter
 from beeoptics.eye.lattice import conformal_map, project_grid
 from beeoptics.eye.meshquery import MeshQuery
 from beeoptics.eye.optics import acceptance_angles

@@ -13,6 +13,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from beeoptics.eye.facetmap import FILL
 from beeoptics.eye.given import given_right_eye, surface
 from beeoptics.eye.optics import RHABDOM_ACCEPTANCE_DEG
 from beeoptics.headframe import EYE_SIZE_MM, RIGHT, eye_rotation
@@ -21,8 +22,6 @@ from beeoptics.io.meshfile import read_mesh
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import load_yaml, validate
 
-#: An anchor whose diameter the count and the cornea set (facet_diameter.anchors[].diameter_um).
-FILL = "fill"
 
 
 class EyeDescription(NamedTuple):

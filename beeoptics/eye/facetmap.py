@@ -25,6 +25,9 @@ from scipy.optimize import brentq
 from beeoptics.eye.geodesic import heat_distances
 from beeoptics.headframe import eye_direction
 
+#: An anchor whose diameter the count and the cornea set (facet_diameter.anchors[].diameter_um).
+FILL = "fill"
+
 
 def anchor_vertices(normals, anchors):
     """The points (mesh vertices, say) whose directions point closest to each anchor's direction.

@@ -29,6 +29,7 @@ high-speed and high-fidelity rendering of compound eyes. eLife 11:e73893.
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from beeoptics.eye.build import BuiltEye
 from beeoptics.eye.lattice import sphere_triangles, triangle_edges
 from beeoptics.eye.optics import acceptance_angles
 from beeoptics.eye.quality import fields, optics_quality, published_checks, size
@@ -85,8 +86,6 @@ def build_given(eye, table, acceptance, keep_delta_rho=False):
         Its relaxation holds the given positions alone (iteration 0), so that
         the eye's figures draw them as they draw a relaxed lattice.
     """
-    from beeoptics.eye.build import BuiltEye
-
     axes, points_head = table.axis, table.position
     edges = joined(axes, triangle_edges(sphere_triangles(axes)))
     dphi, facet_um = delta_phi(axes, edges), table.facet_diameter_um
