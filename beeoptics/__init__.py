@@ -12,8 +12,21 @@ before it: :mod:`beeoptics.eye` (eyes and their receptors) →
 :mod:`beeoptics.images` (what people are shown). :mod:`beeoptics.io` (files)
 lies under all of them and :mod:`beeoptics.pipeline` (the workflow's stages)
 over all of them; :mod:`beeoptics.spectra`, :mod:`beeoptics.headframe`,
-:mod:`beeoptics.raycasting` and :mod:`beeoptics.replicates` are shared by every stage. See
-``docs/architecture.md``.
+:mod:`beeoptics.raycasting` and :mod:`beeoptics.replicates` are shared by every stage. From
+Python, :func:`load_eye`, :func:`load_scene` and :func:`look` (:mod:`beeoptics.api`) call the
+stages as the workflow does. See ``docs/architecture.md``.
 """
 
 __version__ = "0.1.0"
+
+#: The Python API (:mod:`beeoptics.api`), imported on first use so that ``import beeoptics`` (and the
+#: command line's ``--help``) stays quick.
+__all__ = ["load_eye", "load_scene", "look", "Eye", "Scene", "View"]
+
+
+def __getattr__(name):
+    if name in __all__:
+        from beeoptics import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'beeoptics' has no attribute {name!r}")

@@ -10,7 +10,7 @@ PACKAGE = ROOT / "beeoptics"
 #: Modules every stage may use.
 SHARED = {"spectra", "headframe", "raycasting", "jit", "replicates", "_exports"}
 #: What each part of the package may import: eye → light → vision → images, io below all,
-#: pipeline and the command-line tool above all. Vision sees neither scenes nor eyes.
+#: pipeline, the command-line tool and the Python API above all. Vision sees neither scenes nor eyes.
 ALLOWED = {
     "_exports": set(),
     "headframe": set(),
@@ -26,6 +26,8 @@ ALLOWED = {
     "images": {"images", "vision", "light", "eye", "io", *SHARED},
     "pipeline": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
     "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    # The Python API: the front door over the stages, reading other formats of receptors as the tool does.
+    "api": {"cli", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
 }
 
 

@@ -32,6 +32,7 @@ from conftest import ROOT, SHARED, run
 
 README = ROOT / "README.md"
 BLOCK = re.compile(r"```sh\n(.*?)```", re.S)
+PYTHON = re.compile(r"```python\n(.*?)```", re.S)
 #: The repository's files the commands read, copied for them.
 COPIED = ("eyes", "scenes", "config", "workflow", "Snakefile", "Makefile", "pyproject.toml", "requirements.lock",
           "environment.yml")
@@ -125,6 +126,18 @@ def test_every_readme_command_runs_as_written(tmp_path, workdir, shared_data):
         assert result.returncode == 0, f"{command}\n{result.stderr[-3000:]}"
         ran += 1
     print(f"{ran} README commands ran")
+
+
+def test_the_readme_python_snippets_run_in_a_fresh_process():
+    """Each ``python`` block of the README's "From Python", in the repository's folder as a fresh clone has
+    it, in a process of its own: an error fails the test."""
+    section = README.read_text().split("\n## From Python\n", 1)[1].split("\n## ", 1)[0]
+    snippets = PYTHON.findall(section)
+    assert snippets
+    for snippet in snippets:
+        result = subprocess.run([sys.executable, "-c", snippet], cwd=ROOT, capture_output=True, text=True)
+        assert result.returncode == 0, f"{snippet}\n{result.stderr[-3000:]}"
+        assert "UV" in result.stdout
 
 
 def test_every_benchmark_the_readme_names_exists_and_takes_help(monkeypatch, capsys):

@@ -1,0 +1,111 @@
+"""The Python API: an eye, a scene and a look give what the command line writes, and refuse bad input."""
+
+import numpy as np
+import pytest
+
+import beeoptics
+from beeoptics import cli
+from beeoptics.io.errors import InputError
+from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.table import write_table
+from beeoptics.light.scene import load_scene
+from beeoptics.pipeline import eyes
+from conftest import ROOT
+
+DATA = ROOT / "tests" / "data"
+EYE = DATA / "eyes" / "tiny" / "eye.yaml"
+FLOWER = DATA / "scenes" / "flower" / "scene.yaml"
+#: As tests/test_cli.py renders: few rays on a coarse spectrum.
+FAST = {"samples": 4, "depth": 1}
+STEP_NM = 20
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    out = tmp_path_factory.mktemp("api") / "tiny"
+    assert cli.main(["build-eye", str(EYE), "-o", str(out), "--quiet"]) == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def eye():
+    return beeoptics.load_eye(EYE)
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return beeoptics.load_scene(FLOWER, step_nm=STEP_NM)
+
+
+@pytest.fixture(scope="module")
+def view(eye, scene):
+    return beeoptics.look(eye, scene, **FAST, seed=3)
+
+
+def test_an_eye_yaml_is_built_as_build_eye_builds_it_then_read_from_the_cache(eye, built, monkeypatch):
+    by_tool = read_receptors(built / "receptors.csv")
+    for field in ("id", "side", "position", "axis", "facet_diameter_um", "delta_phi_deg", "delta_rho_deg"):
+        np.testing.assert_array_equal(getattr(eye.table, field), getattr(by_tool, field), err_msg=field)
+    assert list(eye.receptor_set.classes) == ["UV", "B", "G"]
+    assert list(eye.receptors.columns[:2]) == ["id", "side"] and len(eye.receptors) == len(by_tool.id)
+
+    fly = beeoptics.load_eye(built / "receptors.csv", receptor_set="drosophila_melanogaster")
+    assert set(fly.receptors.ommatidium) == {name for name, *_ in fly.receptor_set.mosaic}
+    assert "ommatidium" not in eye.receptors
+
+    def refused(*args, **kwargs):
+        raise AssertionError("built again")
+    monkeypatch.setattr(eyes, "build_facets", refused)
+    np.testing.assert_array_equal(beeoptics.load_eye(EYE).table.axis, eye.table.axis)
+
+
+def test_a_look_gives_the_bytes_render_writes(built, eye, view, tmp_path):
+    out = tmp_path / "rendered"
+    assert cli.main([str(a) for a in ["render", built / "receptors.csv", FLOWER, "--eye", EYE, "-o", out,
+                                      "--samples", 4, "--depth", 1, "--seed", 3, "--step-nm", STEP_NM,
+                                      "--width-px", 32, "--quiet"]]) == 0
+    write_table(tmp_path / "responses.csv", view.table())
+    assert (tmp_path / "responses.csv").read_bytes() == (out / "responses.csv").read_bytes()
+    rendered = np.load(out / "irradiance.npz")
+    np.testing.assert_array_equal(view.radiance.astype(np.float32), rendered["radiance"])
+    np.testing.assert_array_equal(view.wavelengths_nm, rendered["wavelength_nm"])
+    classes = list(eye.receptor_set.classes)
+    assert list(view.catches.columns) == ["id", "side", "azimuth_deg", "elevation_deg",
+                                          *[c for k in classes for c in (k, f"se_{k}")]]
+    assert {"hex_x", "se_hex_x", "coc_A", "rnl_dS", "se_rnl_dS"} <= set(view.colour.columns)
+
+
+def test_the_same_look_on_other_threads_is_the_same_view(eye, scene, view):
+    again = beeoptics.look(eye, scene, **FAST, seed=3, threads=1)
+    assert again.table().equals(view.table())
+
+
+def test_turning_the_head_turns_every_axis_about_the_vertical(eye, scene, view):
+    # The flower scene's head: heading 0, pitch -10; a heading of 90 keeps its pitch and turns it about z.
+    turned = beeoptics.look(eye, scene, **FAST, seed=3, heading_deg=90.0)
+    np.testing.assert_allclose(((turned.catches.azimuth_deg - view.catches.azimuth_deg) % 360.0), 90.0, atol=1e-9)
+    np.testing.assert_allclose(turned.catches.elevation_deg, view.catches.elevation_deg, atol=1e-9)
+    same = beeoptics.look(eye, scene, **FAST, seed=3, position_m=[0.0, 0.0, 0.1], pitch_deg=-10.0)
+    assert same.table().equals(view.table())
+
+
+def test_a_scene_relit_is_the_scene_loaded_under_that_light(scene):
+    light = {"sun_elevation_deg": 25.0, "turbidity": 4.0}
+    relit = scene.with_light(**light)
+    loaded = load_scene(FLOWER, scene.wavelengths_nm, light)
+    np.testing.assert_array_equal(relit.scene.sun.radiance, loaded.sun.radiance)
+    np.testing.assert_array_equal(relit.scene.sky.basis, loaded.sky.basis)
+    assert not np.array_equal(relit.scene.sun.radiance, scene.scene.sun.radiance)
+    assert relit.raycasting is scene.raycasting  # the geometry is not loaded again
+
+
+@pytest.mark.parametrize("call, field", [
+    (lambda e, s: beeoptics.look(e, s, samples=0), "trace.samples_per_receptor"),
+    (lambda e, s: beeoptics.look(e, s, **FAST, background="granite"), "background"),
+    (lambda e, s: beeoptics.load_eye(EYE.with_name("none.yaml")), ""),
+    (lambda e, s: beeoptics.load_eye(DATA / "none.eye", unit="mm"), "unit"),
+])
+def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
+    with pytest.raises(InputError) as refused:
+        call(eye, scene)
+    assert refused.value.field == field
