@@ -31,9 +31,9 @@ from beeoptics.io.validation import (CONFIG_SCHEMA, check_background, config_def
                                      validate_config)
 from beeoptics.light import scene as scenes
 from beeoptics.light.batching import TraceSettings
-from beeoptics.light.scenecache import cache_root
+from beeoptics.light.scenecache import cache_root, code_digest, file_digest
 from beeoptics.spectra import grid
-from beeoptics.vision.receptorset import DEFAULT_CURVES, DEFAULT_SET, curves, load_receptor_set, ommatidium_types
+from beeoptics.vision.receptorset import DEFAULT_SET, curves, load_receptor_set, ommatidium_names, ommatidium_types
 from beeoptics.vision.receptorset import receptor_set_of
 
 log = logging.getLogger("beeoptics")
@@ -76,7 +76,7 @@ class Eye:
         columns = self.table.columns()
         types = ommatidium_types(self.receptor_set, len(self.table.id))
         if types is not None:
-            columns["ommatidium"] = np.array([self.receptor_set.mosaic[k][0] for k in types])
+            columns["ommatidium"] = ommatidium_names(self.receptor_set, types)
         return pd.DataFrame(columns)
 
     def __repr__(self):
@@ -144,15 +144,10 @@ def _built(eye_yaml):
 
     if not eye_yaml.is_file():
         raise InputError(eye_yaml, "", "no such file")
-    package = Path(__file__).parent
-    code = sorted(p for name in EYE_CODE for p in [package / name, *(package / name).rglob("*.py")] if p.is_file())
     # Every file of the eye's folder: its mesh, anchors, ommatidia or cornea, whatever its eye.yaml names.
-    files = [("code", p.relative_to(package), p) for p in code] + \
-            [("eye", p.name, p) for p in sorted(eye_yaml.parent.iterdir()) if p.is_file()]
-    h = hashlib.sha256(f"beeoptics {__version__} {eye_yaml.name}\n".encode())
-    for kind, name, p in files:
-        with open(p, "rb") as f:
-            h.update(f"{kind} {name} {hashlib.file_digest(f, 'sha256').hexdigest()}\n".encode())
+    eye_files = "".join(f"{p.name} {file_digest(p)}\n" for p in sorted(eye_yaml.parent.iterdir()) if p.is_file())
+    h = hashlib.sha256(f"beeoptics {__version__} {eye_yaml.name} code {code_digest(names=EYE_CODE)}\n{eye_files}"
+                       .encode())
     folder = cache_root() / "eyes" / h.hexdigest()
     if (folder / "receptors.csv").is_file():
         return folder

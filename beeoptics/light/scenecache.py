@@ -110,20 +110,20 @@ def scene_key(data, base, wavelengths, sections=("objects", "materials")):
     h.update(json.dumps({k: data[k] for k in sections}, sort_keys=True, default=str).encode())
     h.update(np.ascontiguousarray(wavelengths, float).tobytes())
     for path in _named_files(data, base, sections):
-        h.update(f"{path.name} {_digest(path)}\n".encode())
+        h.update(f"{path.name} {file_digest(path)}\n".encode())
     return h.hexdigest()
 
 
 @functools.cache
-def code_digest(package=Path(__file__).parents[1]):
-    """The SHA-256 of the files of :data:`CODE` in ``package`` (their names in it and contents; compiled caches
-    left out), once a process."""
-    files = sorted(p for name in CODE for p in [package / name, *(package / name).rglob("*")]
+def code_digest(package=Path(__file__).parents[1], names=CODE):
+    """The SHA-256 of the files ``names`` (files or folders, by default :data:`CODE`) in ``package`` (their names
+    in it and contents; compiled caches left out), once a process."""
+    files = sorted(p for name in names for p in [package / name, *(package / name).rglob("*")]
                    if p.is_file() and "__pycache__" not in p.parts)
-    return hashlib.sha256("".join(f"{p.relative_to(package)} {_digest(p)}\n" for p in files).encode()).hexdigest()
+    return hashlib.sha256("".join(f"{p.relative_to(package)} {file_digest(p)}\n" for p in files).encode()).hexdigest()
 
 
-def _digest(path):
+def file_digest(path):
     """The SHA-256 of a file's contents (hex), or "missing" if it cannot be read."""
     h = hashlib.sha256()
     try:
@@ -139,12 +139,12 @@ def companions(data, base, read, sections=("objects", "materials")):
     """The files of ``read`` (every file loading the scene's ``sections`` read; :mod:`beeoptics.io.provenance`)
     that the key does not hash, each with its SHA-256: what an entry checks before it is used."""
     named = {p.absolute() for p in _named_files(data, base, sections)}
-    return {str(p): _digest(p) for p in read if p not in named}
+    return {str(p): file_digest(p) for p in read if p not in named}
 
 
 def _changed(files):
     """The first of ``files`` (path: SHA-256) whose contents are no longer those, or None."""
-    return next((path for path, digest in files.items() if _digest(path) != digest), None)
+    return next((path for path, digest in files.items() if file_digest(path) != digest), None)
 
 
 def read(key):

@@ -28,7 +28,8 @@ from beeoptics.spectra import grid
 from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.human import srgb, tristimulus
-from beeoptics.vision.receptorset import DEFAULT_CURVES, brightness_weights, curves, lacking, ommatidium_types
+from beeoptics.vision.receptorset import (DEFAULT_CURVES, brightness_weights, curves, lacking, ommatidium_names,
+                                          ommatidium_types)
 from beeoptics.vision.uncertainty import colour_columns
 
 #: The share of receptors meeting back faces that says an eye is enclosed: below a ground or inside a
@@ -318,7 +319,7 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
                          "von Kries adaptation needs a background every class sees")
     columns = {"id": table.id, "side": table.side}
     if types is not None:
-        columns["ommatidium"] = np.array([receptor_set.mosaic[k][0] for k in types])
+        columns["ommatidium"] = ommatidium_names(receptor_set, types)
     columns["acceptance_sr"] = omega
     if replicate_catches is not None:
         replicate_catches = np.where(np.isnan(catches)[:, None, :], np.nan, replicate_catches)

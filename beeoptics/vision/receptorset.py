@@ -287,6 +287,11 @@ def ommatidium_types(receptor_set, count):
     return np.minimum(np.searchsorted(shares / shares[-1], draw, side="right"), len(shares) - 1)
 
 
+def ommatidium_names(receptor_set, types):
+    """The name of each receptor's ommatidial type (``types`` from :func:`ommatidium_types`), as the tables write it."""
+    return np.array([name for name, *_ in receptor_set.mosaic])[types]
+
+
 def lacking(receptor_set, types):
     """(receptors, classes) mask of the classes each receptor's ommatidium lacks (none without a mosaic)."""
     mask = np.zeros((0 if types is None else len(types), len(receptor_set.classes)), bool)
