@@ -54,7 +54,7 @@ SETTINGS = {
     "render": [
         ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone, at most "
          "65,536 (where the noise is well below the measured reflectances' spread; see the config schema)"),
-        ("--precision", "trace.precision.target", lambda text: None if text == "fixed" else _number_or(text),
+        ("--precision", "trace.precision.target", lambda text: None if text == "fixed" else text,
          "the relative standard error asked of each receptor's catches: a number (0.03: 3 %%), 'auto' (a quarter "
          "of each class's Weber fraction, where the receptor set gives them) or 'fixed' (--samples each)"),
         ("--max-samples", "trace.precision.max_samples", int, "the most samples a receptor takes to reach --precision"),
@@ -79,14 +79,6 @@ FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "recepto
            ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
 #: The formats in words, for the help: ".csv, .eye, .ply, .gltf or .glb".
 FORMAT_LIST = f"{', '.join(list(FORMATS)[:-1])} or {list(FORMATS)[-1]}"
-
-
-def _number_or(text):
-    """``text`` as a number where it is one, else as it is (the schema then names it)."""
-    try:
-        return float(text)
-    except ValueError:
-        return text
 
 
 def settings(args):

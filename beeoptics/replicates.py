@@ -20,15 +20,17 @@ Bureau of Standards, Washington.
 """
 
 import numpy as np
+from scipy.special import stdtrit
 
 #: Independent replicates of each bundle, whose spread gives its standard error. Eight keeps each
 #: replicate's share of the default 256 samples at 32, where the quasi-random points still stratify, while
 #: the relative standard error of the standard error itself, about 1/√(2(K − 1)), is 27 %.
 REPLICATES = 8
-#: The 97.5th percentile of Student's t with REPLICATES − 1 = 7 degrees of freedom (Abramowitz & Stegun 1964,
-#: table 26.10): a mean ± T95 standard errors of 8 replicates is its 95 % interval, where ± 1.96 covers only
-#: 91 %, the standard error being itself an estimate of 7 degrees of freedom.
-T95 = 2.3646
+#: The 97.5th percentile of Student's t with REPLICATES − 1 = 7 degrees of freedom, 2.3646 (Abramowitz & Stegun
+#: 1964, table 26.10; computed from REPLICATES, so that the two stay together): a mean ± T95 standard errors of
+#: 8 replicates is its 95 % interval, where ± 1.96 covers only 91 %, the standard error being itself an
+#: estimate of 7 degrees of freedom.
+T95 = float(stdtrit(REPLICATES - 1, 0.975))
 
 
 def standard_error(replicates, axis=1):

@@ -155,8 +155,8 @@ def test_bundles_of_any_sample_count_are_traced_in_batches_no_larger_than_asked(
     want = None
     for batch_rays, threads in [(1024, 1), (3000, 2), (1 << 17, 2)]:
         seen.clear()
-        got = trace_bundles(fake, 3, 9, TraceSettings(samples, 1, 1, batch_rays, threads), 2,
-                            samples=np.full(6, samples), replicates=[2, 5])
+        got = trace_bundles(fake, 3, 9, TraceSettings(samples, 1, 1, batch_rays, threads), 2, np.full(6, samples),
+                            [2, 5])
         assert max(seen) <= batch_rays and sum(seen) == 2 * 6 * samples
         if want is None:
             starts = np.arange(0, samples, SAMPLE_BLOCK)

@@ -23,7 +23,7 @@ __all__, __getattr__ = exports(__name__, {
     "daylight": ("Daylight", "angstrom_beta", "clear_sky", "write_daylight"),
     "hosekwilkie": ("CHANNELS_NM", "channel_radiance", "channel_shape", "channel_weights", "shape_radiance"),
     "sky": ("CLEAR_SKIES", "Sky", "cie_daylight", "clear_sky_dome", "horizontal_irradiance", "luminance",
-            "sky_coefficients", "uniform_sky"),
+            "sky_coefficients", "uniform_sky", "white_radiance"),
     "skypolarisation": ("MODELS", "basis_depolarisation", "degree", "depolarisation_factor", "king_factor",
                         "max_degree", "neutral_points_deg", "patterns", "polarisation", "polarisations",
                         "sky_polarisation"),

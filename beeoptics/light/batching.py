@@ -26,7 +26,7 @@ import numpy as np
 
 from beeoptics.io.errors import InputError
 from beeoptics.io.validation import config_default
-from beeoptics.light.precision import Precision, class_targets, replicate_samples
+from beeoptics.light.precision import Precision, class_targets
 from beeoptics.light.sampler import REPLICATE_SHIFT
 
 #: Samples in a block: a bundle with more is traced in blocks of this many. The
@@ -114,7 +114,7 @@ def _batches(first, samples, replicates, batch_rays):
         lo = hi
 
 
-def trace_bundles(trace, first, last, settings, columns, progress=None, samples=None, replicates=None):
+def trace_bundles(trace, first, last, settings, columns, samples, replicates, progress=None):
     """Each bundle's mean of each replicate, traced in batches of blocks on ``settings.threads`` threads.
 
     Parameters
@@ -127,13 +127,12 @@ def trace_bundles(trace, first, last, settings, columns, progress=None, samples=
     settings : TraceSettings
     columns : int
         m, the length of a bundle's result.
+    samples : ndarray of int, shape (last − first,)
+        Each bundle's samples per replicate.
+    replicates : sequence of int
+        The replicates' indices (0 … K − 1, K of :func:`replicate_samples`, for one estimate).
     progress : callable, optional
         Called with (bundles done, bundles in all) after each batch.
-    samples : ndarray of int, shape (last − first,), optional
-        Each bundle's samples per replicate; by default
-        :func:`replicate_samples` of ``settings.samples``.
-    replicates : sequence of int, optional
-        The replicates' indices, by default 0 … K − 1 (K of :func:`replicate_samples`).
 
     Returns
     -------
@@ -141,9 +140,7 @@ def trace_bundles(trace, first, last, settings, columns, progress=None, samples=
         Each bundle's weighted mean over each replicate's samples.
     """
     n = last - first
-    k, m = replicate_samples(settings.samples)
-    samples = np.full(n, m, np.int64) if samples is None else np.asarray(samples, np.int64)
-    replicates = range(k) if replicates is None else replicates
+    samples = np.asarray(samples, np.int64)
     r = len(replicates)
     position = np.zeros(max(replicates, default=0) + 1, np.int64)
     position[list(replicates)] = np.arange(r)

@@ -179,3 +179,10 @@ def horizontal_irradiance(sky, sun, n_wavelengths, samples=QUADRATURE):
     if sun is not None and sun.direction[2] > 0.0:
         total += sun.radiance * sun.solid_angle * sun.direction[2]
     return total
+
+
+def white_radiance(sky, sun, n_wavelengths):
+    """The spectral radiance of a white Lambertian surface lying unshaded under the sky and sun, W m⁻² sr⁻¹ nm⁻¹:
+    their horizontal irradiance over π (:func:`horizontal_irradiance`), what the catches of a white reference
+    and a named adapting background are taken from."""
+    return horizontal_irradiance(sky, sun, n_wavelengths) / np.pi

@@ -24,7 +24,7 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import config_default
 from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
-from beeoptics.light.sky import horizontal_irradiance
+from beeoptics.light.sky import white_radiance
 from beeoptics.pipeline.images import display_words
 from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
@@ -289,7 +289,7 @@ def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *,
     rs = raycasting_scene(scene)
     table = read_receptors(receptors_csv)
     sens = curves(receptor_set, wl, receptor_curves)
-    white = quantum_catches(horizontal_irradiance(scene.sky, scene.sun, len(wl))[None] / np.pi, sens, wl)[0]
+    white = quantum_catches(white_radiance(scene.sky, scene.sun, len(wl))[None], sens, wl)[0]
     flight = read_flight(flight_file)
     poses = [pose(flight, t) for t in frame_times(flight, fps)]
     n, width = len(table.id), int(table.id.max()) + 1

@@ -21,7 +21,7 @@ from beeoptics.light.precision import adaptive_samples, replicate_samples
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
-from beeoptics.light.sky import horizontal_irradiance
+from beeoptics.light.sky import white_radiance
 from beeoptics.pipeline.logs import log
 from beeoptics.replicates import standard_error
 from beeoptics.spectra import grid
@@ -192,17 +192,18 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     if precision is None:
         k, m = replicate_samples(settings.samples)
         samples = np.full(last - first, m)
-        replicates = trace_bundles(trace, first, last, settings, columns, progress)
+        replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k), progress)
     else:
         # Stein's two stages (beeoptics.light.precision): a pilot fixes each cone's samples, fresh
         # replicates of them make its estimate. Of a Stokes vector, the intensity's catches decide.
         k, m = replicate_samples(precision.min_samples)
-        pilot = trace_bundles(trace, first, last, settings, columns, progress, samples=np.full(last - first, m))
-        white = catches(np.broadcast_to(horizontal_irradiance(scene.sky, scene.sun, n_wavelengths) / np.pi,
+        # The pilot's own K replicates (fewer than eight where min_samples is below eight), and no progress
+        # of its own: the bar follows the estimate's trace.
+        pilot = trace_bundles(trace, first, last, settings, columns, np.full(last - first, m), range(k))
+        white = catches(np.broadcast_to(white_radiance(scene.sky, scene.sun, n_wavelengths),
                                         (last - first, n_wavelengths)))
         samples = adaptive_samples(catches(pilot[..., :n_wavelengths]), white, precision)
-        replicates = trace_bundles(trace, first, last, settings, columns, progress, samples=samples,
-                                   replicates=range(k, 2 * k))
+        replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k, 2 * k), progress)
         log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
                  k * samples.min(initial=0), k * samples.max(initial=0), k * samples.mean() if len(samples) else 0,
                  k * m)
@@ -307,7 +308,7 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     seen = catches / omega[:, None]
     # A white Lambertian surface under the scene's sky and sun: what a named
     # background reflects, and the photon flux of the spectral locus's lights.
-    white = horizontal_irradiance(scene.sky, scene.sun, len(wl)) / np.pi
+    white = white_radiance(scene.sky, scene.sun, len(wl))
     surface = None
     if background != "scene":
         check_background(scene_file, background, scene_file, "materials")
@@ -368,8 +369,8 @@ def render_human(scene, camera, settings, wavelengths, rs=None):
                            first_samples=blocks.first_sample, rs=rs), ones.sum(axis=1)
 
     # A pixel is one replicate of all its samples: an image carries no errors, and its rays were drawn at once.
-    radiance = trace_bundles(trace, 0, len(dirs), settings, len(wavelengths),
-                             samples=np.full(len(dirs), settings.samples), replicates=range(1))[:, 0]
+    radiance = trace_bundles(trace, 0, len(dirs), settings, len(wavelengths), np.full(len(dirs), settings.samples),
+                             range(1))[:, 0]
     xyz = tristimulus(wavelengths, radiance)
     return xyz.reshape(camera["height_px"], camera["width_px"], 3)
 

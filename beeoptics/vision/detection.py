@@ -66,8 +66,8 @@ from beeoptics.replicates import T95, standard_error
 from beeoptics.vision.colourspace import excitation, hexagon, rnl_distance
 from beeoptics.vision.uncertainty import quadrature
 
-#: The z of a two-sided 95 % interval of a normal error: a published threshold's ± (a standard error of
-#: many trials) spans ± Z95 of it.
+#: The z of a two-sided 95 % interval of a normal error, the normal's 97.5th percentile (Abramowitz & Stegun
+#: 1964, table 26.1): a published threshold's ± (a standard error of many trials) spans ± Z95 of it.
 Z95 = 1.959963984540054
 
 #: The local background: receptors untouched by the target whose axes lie within this many of their
