@@ -1057,11 +1057,16 @@ def _numeric_fields(node, path=""):
 
 @pytest.mark.parametrize("schema", sorted(p.name for p in (ROOT / "beeoptics" / "io" / "schemas").glob("*.yaml")))
 def test_every_number_of_every_input_schema_has_a_range(schema):
-    """A lower bound for every number an input takes (what it cannot be below), and bounds that are numbers
-    (YAML 1.1 reads 1e9 as text)."""
+    """Both bounds for every number an input takes (what it cannot be below, and beyond what it means
+    nothing or costs more than any run can give), bounds that are numbers (YAML 1.1 reads 1e9 as text), and a
+    default within them."""
     doc = yaml.safe_load((ROOT / "beeoptics" / "io" / "schemas" / schema).read_text())
     for field, node in _numeric_fields(doc):
         assert "minimum" in node or "exclusiveMinimum" in node, f"{schema}: {field} has no lower bound"
+        assert "maximum" in node or "exclusiveMaximum" in node, f"{schema}: {field} has no upper bound"
+        if isinstance(node.get("default"), (int, float)) and not isinstance(node["default"], bool):
+            assert node.get("minimum", node.get("exclusiveMinimum")) <= node["default"] <= \
+                node.get("maximum", node.get("exclusiveMaximum")), f"{schema}: {field}'s default is out of range"
         for bound in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum"):
             assert isinstance(node.get(bound, 0), (int, float)), f"{schema}: {field}.{bound} is not a number"
 
