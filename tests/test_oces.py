@@ -466,6 +466,16 @@ def shorten_view(key):
     (lambda doc: doc["nodes"][0]["extensions"].pop("OCES_eyes"), "nodes.1", "outside every head"),
     (lambda doc: doc["extensions"].pop("OCES_eyes"), "extensions.OCES_eyes", "missing"),
     (lambda doc: doc["nodes"][0]["extensions"]["OCES_eyes"].update(enabled=False), "eyes", "no enabled"),
+    # The glTF container's own fields are named too: a glTF library's decoding (pygltflib's) names none, failing
+    # with a TypeError, or reads a count of 3.5 as 3 and a missing asset as glTF 2.0.
+    (lambda doc: doc.update(nodes=5), "nodes", "must be a JSON array"),
+    (lambda doc: doc["nodes"].__setitem__(1, "eye"), "nodes.1", "must be a JSON object"),
+    (lambda doc: doc.pop("asset"), "asset", "missing"),
+    (set_accessor("POSITION", bufferView="x"), POSITION, "'x' is not the index of one of the file's"),
+    (set_accessor("POSITION", count=3.5), POSITION, "count 3.5 is not a whole number"),
+    (lambda doc: doc["buffers"][0].update(uri=5), "buffers.0.uri", "must be a string"),
+    (lambda doc: doc["buffers"][0].update(uri=doc["buffers"][0]["uri"][:99] + "!" + doc["buffers"][0]["uri"][99:]),
+     "buffers.0.uri", "is not valid base64"),
 ])
 def test_malformed_files_name_the_file_and_field(tmp_path, table, edit, field, message):
     path, doc = written(tmp_path, table)
@@ -489,6 +499,46 @@ def test_files_that_are_not_gltf(tmp_path, name, content, message):
     with pytest.raises(InputError, match=re.escape(message)) as e:
         read_oces(path)
     assert e.value.path == str(path)
+
+
+def glb(path, *chunks):
+    """Write a binary glTF of ``chunks``, (type, bytes), each padded to 4 bytes (glTF 2.0 §4)."""
+    body = b"".join(struct.pack("<I4s", len(c) + -len(c) % 4, t) + c + b" " * (-len(c) % 4) for t, c in chunks)
+    path.write_bytes(struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body)
+    return path
+
+
+def chunks_of(doc):
+    """The JSON and BIN chunks of a .glb holding what a .gltf's JSON ``doc`` holds in its data URI."""
+    blob = base64.b64decode(doc["buffers"][0].pop("uri").split(",", 1)[1])
+    return (b"JSON", json.dumps(doc).encode()), (b"BIN\0", blob)
+
+
+@pytest.mark.parametrize("order, message", [
+    (lambda json_chunk, bin_chunk: (bin_chunk, json_chunk), "first chunk must be its JSON"),
+    (lambda json_chunk, bin_chunk: ((b"JSON", json_chunk[1].replace(b'"head": true', b'"head": NaN')), bin_chunk),
+     "NaN is not a JSON number"),
+])
+def test_a_malformed_glb_is_named(tmp_path, table, order, message):
+    _, doc = written(tmp_path, table)
+    path = glb(tmp_path / "bee.glb", *order(*chunks_of(doc)))
+    with pytest.raises(InputError, match=re.escape(message)) as e:
+        read_oces(path)
+    assert e.value.path == str(path) and e.value.field == ""
+
+
+def test_what_gltf_allows_is_read(tmp_path, table):
+    """A buffer's data URI of type application/gltf-buffer, and a GLB chunk of a type the reader does not know.
+
+    glTF 2.0 allows both: a data URI of a buffer is application/octet-stream
+    or application/gltf-buffer (§3.6.1.1), and readers skip chunks of unknown
+    types, which extensions may add after the first two (§4.4.3.1).
+    """
+    path, doc = written(tmp_path, table)
+    want = read_oces(path)
+    doc["buffers"][0]["uri"] = doc["buffers"][0]["uri"].replace("octet-stream", "gltf-buffer", 1)
+    assert_same_table(read_oces(save(path, doc)), want)
+    assert_same_table(read_oces(glb(tmp_path / "bee.glb", *chunks_of(doc), (b"XTRA", b"1234"))), want)
 
 
 def test_a_cut_off_glb(tmp_path, table):
