@@ -106,6 +106,18 @@ def test_noise_that_reaches_the_threshold_flags_the_verdict():
     assert rows[0.01]["green_dS"] == pytest.approx(np.log(1.3) / 0.12)
 
 
+def test_a_replicate_whose_target_unmixes_below_zero_makes_the_error_unbounded_and_the_verdict_uncertain():
+    # A green contrast of 2.2 noise units, certain without noise; one replicate of eight in which the target's G
+    # catch reads so low that, its background taken away, it is negative: that replicate has no contrast, and
+    # the error is no longer one the replicates can bound.
+    catches, cover = target_on_grey(1.3)
+    replicates = np.repeat(catches[:, None], 8, 1)
+    replicates[cover > 0, 0, 2] = 0.0
+    row = detect(catches, cover, cover == 0, 10.0, AHEAD, BEE, replicate_catches=replicates)
+    assert row["green_dS"] == pytest.approx(np.log(1.3) / 0.12) and row["achromatic_detectable"] == 1
+    assert row["se_green_dS"] == np.inf and row["achromatic_uncertain"] == 1
+
+
 def test_region_bands_must_cover_every_elevation(tmp_path):
     doc = yaml.safe_load(BEE.path.read_text())
     doc["curves"]["file"] = str(BEE.curves_file)

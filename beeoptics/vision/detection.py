@@ -148,9 +148,11 @@ def could_flip(value, threshold, se_value, se_threshold):
     trace's eight replicates, of seven degrees of freedom: Student's t,
     :mod:`beeoptics.replicates`), the threshold's Z95 of its published ± (a
     normal error). An error not known (NaN, a contrast traced without
-    replicates) counts as none, so that only the known errors flag.
+    replicates) counts as none, so that only the known errors flag; an
+    unbounded one (inf) always flags.
     """
-    spread = quadrature(T95 * np.nan_to_num(se_value), Z95 * np.nan_to_num(se_threshold))
+    se_value, se_threshold = (np.nan_to_num(se, posinf=np.inf) for se in (se_value, se_threshold))
+    spread = quadrature(T95 * se_value, Z95 * se_threshold)
     return bool(abs(value - threshold) <= spread)
 
 
@@ -265,11 +267,20 @@ def detect(catches, cover, background_mask, angular_diameter_deg, direction, rec
     values, target, background = contrasts(catches, cover, background_mask, receptor_set)
     if not (background > 0).all() or not (target > 0).all():
         return {**row, **nan}
-    spread = None if replicate_catches is None else contrasts(
-        np.asarray(replicate_catches, float), cover, background_mask, receptor_set)[0]
+    spread = None
+    if replicate_catches is not None:
+        # A replicate whose unmixed target catch is not positive has no logarithmic contrast (NaN): the noise
+        # reaches the catch itself, so the error is unbounded (inf, which flags every verdict that needs it),
+        # not unknown (NaN, which would count as none and call a verdict noise could flip certain).
+        with np.errstate(invalid="ignore", divide="ignore"):
+            spread = contrasts(np.asarray(replicate_catches, float), cover, background_mask, receptor_set)[0]
     for name in CONTRASTS:
         row[name] = float(values[name])
-        row[f"se_{name}"] = np.nan if spread is None else float(standard_error(spread[name], axis=0))
+        if spread is None:
+            row[f"se_{name}"] = np.nan
+        else:
+            bounded = np.isfinite(spread[name]).all()
+            row[f"se_{name}"] = float(standard_error(spread[name], axis=0)) if bounded else np.inf
     verdicts = dict.fromkeys(VERDICTS, np.nan)
     if rule is not None:
         achromatic, chromatic = rule["achromatic"], rule["chromatic"]
