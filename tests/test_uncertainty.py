@@ -6,7 +6,7 @@ import pytest
 from beeoptics.vision.colourspace import coc, excitation, hexagon, rnl_distance
 from beeoptics.vision.receptorset import load_receptor_set
 from beeoptics.replicates import standard_error
-from beeoptics.vision.uncertainty import delta_se, mean_se, quadrature, replicate_se
+from beeoptics.vision.uncertainty import colour_columns, delta_se, mean_se, quadrature, replicate_se
 
 BEE = load_receptor_set("apis_mellifera")
 #: Replicates per receptor, as the tracer draws them.
@@ -58,6 +58,22 @@ def test_both_estimates_by_hand_for_two_replicates():
     reps = np.array([[[1.0], [3.0]]])
     assert replicate_se(np.square, reps)[0, 0] == pytest.approx(np.std([1.0, 9.0], ddof=1) / np.sqrt(2))
     assert delta_se(np.square, reps)[0, 0] == pytest.approx(2 * 2.0 * np.std([1.0, 3.0], ddof=1) / np.sqrt(2))
+
+
+def test_a_replicate_that_caught_nothing_makes_a_log_quantitys_error_unbounded_not_unknown():
+    # One receptor's G catch is 0 in one replicate of eight, 2 in the rest: its mean is positive and its ΔS
+    # finite, but that replicate's log contrast is not: the error is inf (the noise reaches the catch), where
+    # a receptor without the class (all NaN) keeps NaN, and the hexagon, finite at 0, its plain spread.
+    reps = np.ones((3, K, 3))
+    reps[0, :, 2], reps[0, 0, 2] = 2.0, 0.0
+    reps[2] = np.nan
+    se = replicate_se(colour, reps)
+    assert se[0, 4] == np.inf and np.isfinite(se[0, :4]).all() and np.isfinite(se[1]).all()
+    assert np.isnan(se[2]).all()
+    seen = np.array([[1.0, 1.0, 1.75], [1.0, 1.0, 1.0], [np.nan] * 3])
+    columns = colour_columns(seen, np.ones(3), BEE, reps)
+    assert columns["se_rnl_dS"][0] == np.inf and np.isfinite(columns["rnl_dS"][0])
+    assert np.isfinite(columns["se_hex_x"][0]) and np.isnan(columns["se_rnl_dS"][2])
 
 
 def test_independent_errors_add_in_quadrature_and_a_mean_over_receptors_shrinks_them():

@@ -67,7 +67,23 @@ def replicate_se(f, replicates):
     ndarray, shape (n,) or (n, m)
         In the units of f.
     """
-    return standard_error(f(np.asarray(replicates, float)), axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a replicate that caught nothing: spread_se's inf
+        return spread_se(f(np.asarray(replicates, float)))
+
+
+def spread_se(values):
+    """The standard error of a quantity from its K replicate values, (n, K, ...) → (n, ...).
+
+    Where some replicates have no finite value and others do (a logarithm
+    of a replicate that caught nothing: the noise reaches the quantity's
+    edge), the error is unbounded, inf, not unknown; NaN where none has one
+    (a receptor without the class).
+    """
+    values = np.asarray(values, float)
+    finite = np.isfinite(values)
+    with np.errstate(invalid="ignore"):
+        se = standard_error(values, axis=1)
+    return np.where(finite.any(axis=1) & ~finite.all(axis=1), np.inf, se)
 
 
 def delta_se(f, replicates):
@@ -146,7 +162,8 @@ def colour_columns(seen, background_q, receptor_set, replicates=None):
         return coordinates
     n, k, c = replicates.shape
     lacking = np.isnan(np.asarray(seen, float))[:, None]
-    flat = colour_coordinates(np.where(lacking, np.nan, replicates).reshape(n * k, c), background_q, receptor_set)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a replicate that caught nothing: spread_se's inf
+        flat = colour_coordinates(np.where(lacking, np.nan, replicates).reshape(n * k, c), background_q, receptor_set)
     spread = {name: values.reshape(n, k) for name, values in flat.items()}
     if "hex_hue_deg" in spread:
         centre, _ = hexagon_polar(np.stack([spread["hex_x"].mean(1), spread["hex_y"].mean(1)], -1))
@@ -155,5 +172,5 @@ def colour_columns(seen, background_q, receptor_set, replicates=None):
     for name, values in coordinates.items():
         out[name] = values
         if name != "lit":
-            out[f"se_{name}"] = standard_error(spread[name], axis=1)
+            out[f"se_{name}"] = spread_se(spread[name])
     return out
