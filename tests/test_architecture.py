@@ -28,6 +28,8 @@ ALLOWED = {
     "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
     # The Python API: the front door over the stages, reading other formats of receptors as the tool does.
     "api": {"cli", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    # The closed loop: an agent's moves and what the API's looks show it, casting its steps into the scene.
+    "loop": {"api", "io", *SHARED},
 }
 
 
