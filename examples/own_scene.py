@@ -23,6 +23,7 @@ import numpy as np
 
 import beeoptics
 from beeoptics.images.display import encode, map3
+from beeoptics.io.errors import InputError
 
 SMALL = os.environ.get("BEEOPTICS_EXAMPLES_SMALL") == "1"
 EYE = "tests/data/eyes/tiny/eye.yaml" if SMALL else "eyes/worker/eye.yaml"
@@ -41,8 +42,12 @@ OUT.mkdir(parents=True, exist_ok=True)
 # `position_m=[x, y, z]`, `heading_deg=…`, `pitch_deg=…` to place it elsewhere.
 
 # %%
+try:
+    scene = beeoptics.load_scene(SCENE, step_nm=STEP_NM)
+except InputError as error:
+    # A scene file that cannot be used: one line naming the file and the field, rather than a traceback.
+    raise SystemExit(f"error: {error}") from None
 eye = beeoptics.load_eye(EYE)
-scene = beeoptics.load_scene(SCENE, step_nm=STEP_NM)
 view = beeoptics.look(eye, scene, seed=1, **TRACE)
 print(eye, scene, sep="\n")
 

@@ -42,6 +42,12 @@ def test_own_scene_tables_every_receptor_in_the_scene_it_is_given(run):
     assert (table[["UV", "B", "G"]] >= 0).all().all()
 
 
+def test_own_scene_refuses_a_scene_it_cannot_use_in_one_line(run, tmp_path):
+    with pytest.raises(SystemExit, match=r"^error: tests/data/scenes/none/scene.yaml: no such file$"):
+        run("own_scene", BEEOPTICS_EXAMPLES_SCENE="tests/data/scenes/none/scene.yaml")
+    assert not list(tmp_path.iterdir())
+
+
 def test_two_species_see_one_flower_through_their_own_receptors(run):
     found, flower = run("two_species")
     assert list(flower.species) == ["honey bee", "bumblebee"]
