@@ -17,6 +17,7 @@ __all__, __getattr__ = exports(__name__, {
     "colourspace": ("colour_coordinates", "coc", "coc_distance", "excitation", "hexagon", "hexagon_polar",
                     "hexagon_sector", "reflectance_catches", "rnl_distance", "spectral_locus", "triangle", "von_kries",
                     "widest_spectral_locus"),
+    "pavo": ("PAVO_NAMES", "vismodel_table"),
     "uncertainty": ("colour_columns", "delta_se", "mean_se", "quadrature", "replicate_se", "spread_se"),
     "human": ("srgb", "tristimulus"),
     "polarisation": ("DORSAL_RIM_PS", "analyser_efficiency", "analyser_ps", "degree_and_angle", "head_frame_stokes",
