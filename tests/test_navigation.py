@@ -93,7 +93,10 @@ def test_a_turn_by_whole_steps_is_the_grid_reordered(eye, env):
     np.testing.assert_allclose(by_order, turned, rtol=1e-10)
 
 
-def test_a_map_file_is_read_back_or_refused_in_one_line(env, tmp_path):
+def test_a_map_file_is_read_back_or_refused_in_one_line(env, eye, scene, tmp_path):
+    for position in ([0.0, np.nan, 0.1], [0.0, 0.1], "here"):
+        with pytest.raises(InputError, match="environment_map: position_m"):
+            envmap.environment_map(scene, position, eye)
     path = tmp_path / "map.npz"
     envmap.write_map(path, env)
     back = envmap.read_map(path)

@@ -275,6 +275,12 @@ def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_de
     if turn < 1.0 or abs(turn - round(turn)) > 1e-9:
         raise InputError("environment_map", "heading_step_deg", f"{heading_step_deg!r}: 360° over it must be a "
                          "whole number")
+    try:
+        position = np.asarray(position_m, float)
+    except (TypeError, ValueError):
+        position = np.full(0, np.nan)
+    if position.shape != (3,) or not np.isfinite(position).all():
+        raise InputError("environment_map", "position_m", f"{position_m!r} is not three finite numbers (m)")
     given = {k: v for k, v in (("samples_per_receptor", samples), ("depth", depth), ("seed", seed)) if v is not None}
     trace = validate_config({"trace": given}, CONFIG_SCHEMA, source="environment_map", folders=False)["trace"]
     settings = TraceSettings.from_config(trace, threads or os.cpu_count())
@@ -282,7 +288,6 @@ def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_de
     sens = curves(eye.receptor_set, wl, sensitivities)
     axes = ring_grid(spacing, heading_step_deg).directions
     n = len(axes)
-    position = np.asarray(position_m, float)
     origins = np.broadcast_to(position, (n, 3))
     delta_rho = np.full(n, MAP_DELTA_RHO_SPACINGS * spacing)
     streams = np.arange(n, dtype=np.int64)
