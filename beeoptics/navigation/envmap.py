@@ -59,6 +59,12 @@ a surface d away that shifts what a receptor sees by at most 1.6 mm/d,
 noise is measured, not assumed: the map-resampled catches are compared with
 the directly traced ones within their standard errors (tests/test_navigation.py
 for the test eye; ``benchmarks/navigation.py`` for the worker in the meadow).
+It shows near the head: for the worker at the meadow's own place (35 cm up),
+the differences over their errors have an rms of 9.75 for the 324 receptors
+whose axis meets grass within 10 cm, 1.2–1.9 beyond, and 1.14 everywhere
+once the direct trace too looks from the head's centre (README, "Views for
+navigation"). A map's views are those of an eye whose facets sit at the
+head's centre.
 
 References
 ----------
