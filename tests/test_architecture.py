@@ -25,9 +25,11 @@ ALLOWED = {
     "vision": {"vision", "io", *SHARED},
     "images": {"images", "vision", "light", "eye", "io", *SHARED},
     "pipeline": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    # Views for navigation: maps traced by the receptors' tracer (a stage's function), resampled to eyes.
+    "navigation": {"navigation", "pipeline", "vision", "light", "eye", "io", *SHARED},
     "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
     # The Python API: the front door over the stages, reading other formats of receptors as the tool does.
-    "api": {"cli", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    "api": {"cli", "navigation", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
 }
 
 

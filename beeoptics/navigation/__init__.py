@@ -1,0 +1,10 @@
+"""Views for navigation: environment maps traced once at a place, from which any eye at any heading, pitch
+and roll there is resampled (:mod:`~beeoptics.navigation.envmap`)."""
+
+from beeoptics._exports import exports
+
+__all__, __getattr__ = exports(__name__, {
+    "envmap": ("EnvironmentMap", "Grid", "direction_tree", "environment_map", "eye_weights", "map_catches",
+               "map_spacing_deg", "read_map", "resampled_catches", "resampling_matrix", "ring_grid", "turn_order",
+               "write_map"),
+})

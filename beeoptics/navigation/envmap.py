@@ -1,0 +1,459 @@
+"""Environment maps: the spectral radiance over the whole sphere at a place, traced once, and any eye at any
+heading, pitch and roll there resampled from it.
+
+Turning an eye about its head changes only which directions its receptors
+look in, so a place needs one trace, not one per heading. The map is traced
+by the receptors' own tracer (:func:`beeoptics.pipeline.trace.trace_cones`:
+its sampling, light, replicates and standard errors) as a synthetic eye whose
+receptors look along the directions of a grid on the sphere, each with a
+small Gaussian acceptance of its own. A receptor's catch is then the
+acceptance-weighted mean of the map over its cone: a sparse matrix per eye
+and pose (:func:`resampling_matrix`), its rows the receptors, its columns
+the map's directions.
+
+The grid is one of rings of constant elevation, h apart, each holding a
+whole multiple of 360/(heading step) directions evenly in azimuth, as many
+as keep them at most h apart along the ring, with each direction's solid
+angle (its ring's band, 2π Δsin(elevation), shared among them) weighting
+it. Turning the head by a whole heading step about the vertical then maps
+the grid onto itself, ring by ring, so that every heading of an eye is one
+matrix, built once for its pitch and roll, applied to the map's directions
+taken in a turned order (:func:`turn_order`): an rIDF's 360 headings cost
+one neighbour search, not 360. An equal-area grid without that symmetry
+(a Fibonacci lattice, González 2010; HEALPix, a dependency besides) needs
+the search at every heading, some seconds for the worker on this machine;
+the rings oversample the poles instead (directions closer than h along a
+ring where a ring's count is rounded up): for the worker 257,400 directions
+at h = 0.475°, 41 % more than the 4π/h² of an equal-area grid (González
+2010, for the Fibonacci lattice), traced once. A cube map's texels span solid angles differing by
+3√3 = 5.2 between a face's corner and its centre, and has the symmetry only
+for quarter turns.
+
+The rule. A map for an eye has s ≤ Δρ_min/:data:`SPACINGS_PER_DELTA_RHO`,
+Δρ_min the eye's smallest acceptance angle (full width at half maximum), s
+being the rings' spacing h; each map direction accepts a Gaussian of
+Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` × s.
+The map is thus the radiance blurred by Δρ_map, and a receptor resampled
+from it with its own Gaussian would see a Gaussian of √(Δρ² + Δρ_map²)
+(variances of Gaussians add): for s = Δρ_min/4 up to 12 % wider than its own
+(√(1 + ¼) = 1.118), which takes 20 % off the catch contrast of a target
+smaller than Δρ (a Gaussian's peak falls as 1/Δρ²) and widens every edge by
+12 %. The resampling kernel is therefore narrowed to
+Δρ_k = √(Δρ² − Δρ_map²), so that the map's blur and the kernel's make the
+receptor's own acceptance exactly. What remains is (i) the kernel's sum over
+grid points, each weighted by its solid angle, standing for its integral:
+the kernel is at least √(16 − 4)/2.355 = 1.47 spacings wide (σ), and the
+weights are normalised, so a uniform map is returned exactly; a horizon seen by
+Δρ = 4 s, 5 s and 6 s comes back as the exact Gaussian edge to within
+1.3 × 10⁻⁴ of the step (tests/test_navigation.py, which allows 10⁻³; the
+kernel of Δρ itself is 0.027 off); (ii) the kernel cut at
+:data:`KERNEL_CUT_SIGMAS` σ, beyond which a Gaussian in two dimensions holds
+exp(−4²/2) = 3.4 × 10⁻⁴ of its weight; (iii) the tangent plane's Gaussians
+taken on the sphere, a relative error of order σ², 10⁻³ at Δρ = 3°.
+
+The head's centre. A map is traced from one point, the place, and every
+receptor resampled from it looks from there, not from its facet a millimetre
+or so away (the worker's facets lie within 1.6 mm of the head's centre). At
+a surface d away that shifts what a receptor sees by at most 1.6 mm/d,
+0.46° at 20 cm: a fifth of the worker's Δρ. Whether it shows above the
+noise is measured, not assumed: the map-resampled catches are compared with
+the directly traced ones within their standard errors (tests/test_navigation.py
+for the test eye; ``benchmarks/navigation.py`` for the worker in the meadow).
+
+References
+----------
+González Á (2010) Measurement of areas on a sphere using Fibonacci and
+latitude–longitude lattices. Math Geosci 42:49–64 (the equal-area lattice
+the rings are weighed against).
+Snyder AW (1977) Acuity of compound eyes: physical limitations and design.
+J Comp Physiol 116:161–182 (the Gaussian acceptance, :mod:`beeoptics.eye.optics`).
+"""
+
+import os
+from functools import lru_cache
+from typing import NamedTuple
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.spatial import cKDTree
+
+from beeoptics.eye.optics import acceptance_solid_angle
+from beeoptics.headframe import head_rotation
+from beeoptics.io.atomic import atomic_path
+from beeoptics.io.errors import InputError
+from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
+from beeoptics.light.batching import TraceSettings
+from beeoptics.light.sensors import cone_sigma
+from beeoptics.pipeline.trace import trace_cones
+from beeoptics.replicates import standard_error
+from beeoptics.vision.catches import quantum_catches
+from beeoptics.vision.receptorset import DEFAULT_CURVES, curves
+
+#: The grid's spacing is at most the eye's smallest Δρ over this (the rule above).
+SPACINGS_PER_DELTA_RHO = 4
+#: Each map direction's acceptance angle (FWHM) in grid spacings: wide enough that the map is sampled well
+#: (its Gaussian's spectrum at the grid's frequency 1/s is exp(−(2π·2/2.355)²/2) < 10⁻⁶), narrow enough that
+#: the resampling kernel keeps √(1 − (2/4)²) = 87 % of the smallest receptor's width.
+MAP_DELTA_RHO_SPACINGS = 2.0
+#: The resampling kernel's cut, in its σ: the Gaussian's weight beyond it, exp(−c²/2), is 3.4 × 10⁻⁴.
+KERNEL_CUT_SIGMAS = 4.0
+#: Map directions traced at once: bounds the replicates' memory (directions × 8 × wavelengths × 8 bytes,
+#: some 170 MB at 81 wavelengths) without changing a number (every direction draws its own stream).
+CHUNK = 1 << 15
+#: The arrays a map file holds, beside its scalars.
+ARRAYS = ("position_m", "wavelengths_nm", "radiance", "q", "q_se", "curves")
+#: Its scalars.
+SCALARS = ("spacing_deg", "heading_step_deg", "samples", "depth", "seed")
+
+
+#: The heading step, degrees, whose whole multiples turn a map's grid onto itself by default: the rIDF's 1°.
+HEADING_STEP_DEG = 1.0
+
+
+class Grid(NamedTuple):
+    """A map's directions: rings of constant elevation, each a whole multiple of the heading steps in a turn.
+
+    Attributes
+    ----------
+    directions : ndarray (n, 3)
+        Unit vectors in the scene's frame, ring after ring from the nadir, each ring from its first azimuth on.
+    solid_angle_sr : ndarray (n,)
+        The solid angle each stands for: its ring's band over the ring's directions (summing to 4π).
+    counts : ndarray of int (rings,)
+        The directions of each ring.
+    """
+
+    directions: np.ndarray
+    solid_angle_sr: np.ndarray
+    counts: np.ndarray
+
+
+class EnvironmentMap(NamedTuple):
+    """The spectral radiance over the sphere at a place, on a grid of rings (:func:`ring_grid`).
+
+    Attributes
+    ----------
+    position_m : ndarray (3,)
+        The place, m in the scene's frame (its height included).
+    spacing_deg : float
+        The rings' spacing h, degrees.
+    heading_step_deg : float
+        The turn, degrees, whose whole multiples map the grid onto itself.
+    wavelengths_nm : ndarray (w,)
+    radiance : ndarray (n, w)
+        Each direction's mean spectral radiance over its acceptance of
+        Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` h, W m⁻² sr⁻¹ nm⁻¹.
+    q, q_se : ndarray (n, k)
+        Its radiance catches in the classes of ``curves``
+        (photons m⁻² s⁻¹ sr⁻¹: :func:`beeoptics.vision.catches.quantum_catches`
+        of the radiance) and their standard errors over the trace's replicates.
+    curves : ndarray (w, k)
+        The receptor curves ``q`` was taken with, each of area 1 nm.
+    samples, depth, seed : int
+        The samples of each direction, the paths' scattering events and the seed it was traced with.
+    source : str
+        Its file, or "environment_map" for one traced in memory (named by errors).
+    """
+
+    position_m: np.ndarray
+    spacing_deg: float
+    heading_step_deg: float
+    wavelengths_nm: np.ndarray
+    radiance: np.ndarray
+    q: np.ndarray
+    q_se: np.ndarray
+    curves: np.ndarray
+    samples: int
+    depth: int
+    seed: int
+    source: str = "environment_map"
+
+    @property
+    def grid(self):
+        """Its directions and their solid angles (:func:`ring_grid`)."""
+        return ring_grid(self.spacing_deg, self.heading_step_deg)
+
+    @property
+    def delta_rho_deg(self):
+        """Each map direction's acceptance angle, FWHM, degrees."""
+        return MAP_DELTA_RHO_SPACINGS * self.spacing_deg
+
+
+@lru_cache(maxsize=4)
+def ring_grid(spacing_deg, heading_step_deg=HEADING_STEP_DEG):
+    """The grid of rings: 180/h rings at elevations h apart from pole to pole, each holding the least whole
+    multiple of 360/``heading_step_deg`` directions that keeps them at most h apart along it.
+
+    Parameters
+    ----------
+    spacing_deg : float
+        h, degrees; 180/h a whole number.
+    heading_step_deg : float
+        Degrees; 360 over it a whole number.
+
+    Returns
+    -------
+    Grid
+    """
+    rings, turn = round(180.0 / spacing_deg), round(360.0 / heading_step_deg)
+    h = np.radians(spacing_deg)
+    elevation = -np.pi / 2 + (np.arange(rings) + 0.5) * h
+    counts = turn * np.ceil(np.cos(elevation) * 2.0 * np.pi / (turn * h) - 1e-9).astype(np.int64)
+    ring = np.repeat(np.arange(rings), counts)
+    j = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    # Odd rings half a step round, so that neighbouring rings' directions interleave.
+    azimuth = 2.0 * np.pi * (j + 0.5 * (ring % 2)) / counts[ring]
+    e = elevation[ring]
+    band = 2.0 * np.pi * (np.sin(elevation + h / 2) - np.sin(elevation - h / 2))
+    grid = Grid(np.column_stack([np.cos(e) * np.cos(azimuth), np.cos(e) * np.sin(azimuth), np.sin(e)]),
+                (band / counts)[ring], counts)
+    # Kept (a map's every look asks for it): read-only, so that no caller changes another's grid.
+    for array in grid:
+        array.flags.writeable = False
+    return grid
+
+
+def map_spacing_deg(delta_rho_deg):
+    """The rule's spacing, degrees, for receptors of acceptance angles ``delta_rho_deg`` (FWHM, degrees): at
+    most their least over :data:`SPACINGS_PER_DELTA_RHO`, and 180° over it a whole number."""
+    return 180.0 / np.ceil(180.0 * SPACINGS_PER_DELTA_RHO / float(np.min(delta_rho_deg)))
+
+
+def turn_order(grid, heading_deg):
+    """The map's directions in the order that turns it by ``heading_deg`` (a whole multiple of its heading
+    step), (n,): ``W @ q[turn_order(grid, ψ)]`` is what ``W``'s receptors see turned by ψ about the vertical."""
+    starts = np.cumsum(grid.counts) - grid.counts
+    ring = np.repeat(np.arange(len(grid.counts)), grid.counts)
+    # A turn by ψ moves every ring by ψ/360 of its count, a whole number of its directions.
+    shift = np.rint(heading_deg / 360.0 * grid.counts).astype(np.int64)
+    j = np.arange(len(ring)) - starts[ring]
+    return starts[ring] + (j + shift[ring]) % grid.counts[ring]
+
+
+def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_deg=HEADING_STEP_DEG, samples=8,
+                    depth=None, seed=None, sensitivities=DEFAULT_CURVES, threads=None):
+    """Trace the spectral radiance over the whole sphere at a place, once, for resampling to an eye at any pose.
+
+    Parameters
+    ----------
+    scene : beeoptics.Scene
+        A loaded scene (:func:`beeoptics.load_scene`).
+    position_m : array_like (3,)
+        The place, m (the head's centre).
+    eye : beeoptics.Eye
+        The eye it is for: its smallest Δρ sets the spacing by the rule
+        (:func:`map_spacing_deg`), its receptor set the classes whose
+        standard errors the map keeps.
+    spacing_deg : float, optional
+        A finer spacing than the rule's, degrees (one map for several eyes),
+        made finer still where 180° over it is not a whole number.
+    heading_step_deg : float
+        The turn, degrees, whose whole multiples are resampled without a
+        search of their own (360 over it a whole number).
+    samples : int
+        Samples of each map direction (as eight replicates where eight or
+        more). A receptor resampled from ~4πσ_k²/h² directions (27 for the
+        worker's smallest Δρ, 47 at its median; more near the poles) has the
+        precision of some that many times more samples traced directly.
+    depth, seed : int, optional
+        Scattering events per path and the seed: the configuration's by default.
+    sensitivities : str
+        The receptor curves (:func:`beeoptics.vision.receptorset.curves`).
+    threads : int, optional
+        Threads tracing; all cores by default. The map is the same for any.
+
+    Returns
+    -------
+    EnvironmentMap
+    """
+    rule = map_spacing_deg(eye.table.delta_rho_deg)
+    if spacing_deg is not None and not 0.0 < spacing_deg <= rule:
+        raise InputError("environment_map", "spacing_deg", f"{spacing_deg!r} is not above 0 and at most the "
+                         f"rule's {rule:.4g}° (the eye's smallest Δρ over {SPACINGS_PER_DELTA_RHO})")
+    spacing = rule if spacing_deg is None else 180.0 / np.ceil(180.0 / spacing_deg)
+    turn = 360.0 / heading_step_deg if heading_step_deg > 0.0 else 0.0
+    if turn < 1.0 or abs(turn - round(turn)) > 1e-9:
+        raise InputError("environment_map", "heading_step_deg", f"{heading_step_deg!r}: 360° over it must be a "
+                         "whole number")
+    given = {k: v for k, v in (("samples_per_receptor", samples), ("depth", depth), ("seed", seed)) if v is not None}
+    trace = validate_config({"trace": given}, CONFIG_SCHEMA, source="environment_map", folders=False)["trace"]
+    settings = TraceSettings.from_config(trace, threads or os.cpu_count())
+    wl = scene.wavelengths_nm
+    sens = curves(eye.receptor_set, wl, sensitivities)
+    axes = ring_grid(spacing, heading_step_deg).directions
+    n = len(axes)
+    position = np.asarray(position_m, float)
+    origins = np.broadcast_to(position, (n, 3))
+    delta_rho = np.full(n, MAP_DELTA_RHO_SPACINGS * spacing)
+    streams = np.arange(n, dtype=np.int64)
+    radiance, q_se = [], []
+    for first in range(0, n, CHUNK):
+        last = min(first + CHUNK, n)
+        errors = {}
+        radiance.append(trace_cones(scene.scene, origins, axes, delta_rho, streams, first, last, settings, len(wl),
+                                    rs=scene.raycasting, sensitivities=(wl, sens), errors=errors)[0])
+        # The replicates' catches are over the direction's acceptance solid angle: per steradian here.
+        q_se.append(standard_error(errors["catches"]) / acceptance_solid_angle(delta_rho[first:last])[:, None])
+    radiance = np.concatenate(radiance)
+    return EnvironmentMap(position, spacing, float(heading_step_deg), wl, radiance, quantum_catches(radiance, sens, wl),
+                          np.concatenate(q_se), sens, settings.samples, settings.depth, settings.seed)
+
+
+def resampling_matrix(env, axes, delta_rho_deg, tree=None):
+    """The weights of the map's directions in each receptor's acceptance: a sparse matrix (receptors, n).
+
+    Row i holds the Gaussian kernel of Δρ_k = √(Δρ_i² − Δρ_map²) about
+    axis i times each direction's solid angle, at every map direction within
+    :data:`KERNEL_CUT_SIGMAS` of its σ, normalised to sum to one, so that the
+    map's blur and the kernel make the receptor's acceptance of Δρ_i (the
+    module's rule).
+
+    Parameters
+    ----------
+    env : EnvironmentMap
+    axes : ndarray (receptors, 3)
+        Unit receptor axes in the scene's frame.
+    delta_rho_deg : ndarray (receptors,)
+        Their acceptance angles, FWHM, degrees.
+    tree : scipy.spatial.cKDTree, optional
+        The tree of the map's directions, to build it once for many poses (:func:`direction_tree`).
+
+    Returns
+    -------
+    scipy.sparse.csr_matrix
+    """
+    delta_rho = np.broadcast_to(np.asarray(delta_rho_deg, float), (len(axes),))
+    if delta_rho.min(initial=np.inf) < SPACINGS_PER_DELTA_RHO * env.spacing_deg * (1.0 - 1e-9):
+        raise InputError(env.source, "spacing_deg", f"{env.spacing_deg:.3g}° is too coarse for receptors of Δρ "
+                         f"{delta_rho.min():.3g}°: trace the map at most Δρ/{SPACINGS_PER_DELTA_RHO} apart")
+    grid = env.grid
+    tree = direction_tree(env) if tree is None else tree
+    sigma = np.sqrt(cone_sigma(delta_rho) ** 2 - cone_sigma(env.delta_rho_deg) ** 2)
+    # Chords of the cut's angles: the tree measures straight lines between unit vectors.
+    cut = 2.0 * np.sin(KERNEL_CUT_SIGMAS * sigma / 2.0)
+    # The nearest k of every axis at once (one dense query, where a list per receptor took seconds for an eye):
+    # k twice the directions a cap of the widest cut holds on average, doubled until no receptor has all k
+    # within its cut (the rings crowd towards the poles).
+    k = int(2.0 * len(grid.directions) * (1.0 - np.cos(KERNEL_CUT_SIGMAS * sigma.max(initial=0.0))) / 2.0) + 16
+    while True:
+        k = min(k, len(grid.directions))
+        chord, columns = tree.query(axes, k=k, distance_upper_bound=cut.max(initial=0.0), workers=-1)
+        inside = chord <= cut[:, None]
+        if k == len(grid.directions) or not inside[:, -1].any():
+            break
+        k *= 2
+    columns = np.where(inside, columns, 0)
+    theta = 2.0 * np.arcsin(np.minimum(np.where(inside, chord, 0.0) / 2.0, 1.0))
+    weights = np.where(inside, np.exp(-0.5 * (theta / sigma[:, None]) ** 2) * grid.solid_angle_sr[columns], 0.0)
+    weights /= weights.sum(axis=1, keepdims=True)
+    # k entries a row, those beyond the cut zero and then dropped.
+    matrix = csr_matrix((weights.ravel(), columns.ravel(), np.arange(0, weights.size + 1, k)),
+                        shape=(len(axes), len(grid.directions)))
+    matrix.eliminate_zeros()
+    return matrix
+
+
+def direction_tree(env):
+    """A k-d tree of the map's directions (scipy), for :func:`resampling_matrix`."""
+    return cKDTree(env.grid.directions)
+
+
+def eye_weights(env, eye, *, pitch_deg=0.0, roll_deg=0.0, heading_deg=0.0, tree=None):
+    """The eye's resampling matrix (:func:`resampling_matrix`) at the map's place in a pose: built once, it
+    serves every heading a whole number of the map's heading steps from ``heading_deg``
+    (:func:`resampled_catches`)."""
+    # As a scene turns a head's receptors (beeoptics.light.scene.receptors_in_world); their places are the map's.
+    axes = eye.table.axis @ head_rotation(heading_deg, pitch_deg, roll_deg).T
+    return resampling_matrix(env, axes, eye.table.delta_rho_deg, tree)
+
+
+def resampled_catches(env, eye, *, heading_deg=0.0, pitch_deg=0.0, roll_deg=0.0, weights=None, q=None):
+    """The eye's catches at the map's place in a pose, resampled from the map: as :func:`beeoptics.look` gives them.
+
+    Parameters
+    ----------
+    env : EnvironmentMap
+    eye : beeoptics.Eye
+    heading_deg, pitch_deg, roll_deg : float
+        The head's heading (from +x towards +y), pitch (nose up) and roll, degrees.
+    weights : scipy.sparse matrix, optional
+        :func:`eye_weights` of the eye at this pitch and roll (heading 0),
+        once for every heading that is a whole number of the map's heading
+        steps; a heading between steps gets a matrix of its own.
+    q : (ndarray, ndarray), optional
+        The map's radiance catches and their standard errors in the eye's
+        classes, (n, k) each, from :func:`map_catches`, once for many poses.
+
+    Returns
+    -------
+    catches : ndarray (receptors, k)
+        Each class's quantum catch, photons m⁻² s⁻¹ (``responses.csv``'s:
+        the radiance catch times the receptor's acceptance solid angle).
+    se : ndarray (receptors, k)
+        Its standard error: √(Σ_j w_ij² se_j²), the map's directions being
+        traced independently; NaN where the map's curves are not the eye's.
+    """
+    steps = heading_deg / env.heading_step_deg
+    whole = np.floor(steps + 1e-9)
+    if weights is None or steps - whole > 1e-9:
+        # Between steps: the matrix of this heading's remainder, the whole steps turned as the grid.
+        weights = eye_weights(env, eye, pitch_deg=pitch_deg, roll_deg=roll_deg,
+                              heading_deg=(steps - whole) * env.heading_step_deg)
+    order = turn_order(env.grid, whole * env.heading_step_deg)
+    q, q_se = map_catches(env, eye) if q is None else q
+    omega = acceptance_solid_angle(eye.table.delta_rho_deg)[:, None]
+    return omega * (weights @ q[order]), omega * np.sqrt(weights.multiply(weights) @ (q_se[order] ** 2))
+
+
+def map_catches(env, eye, sensitivities=DEFAULT_CURVES):
+    """The map's radiance catches in the eye's classes and their standard errors, (n, k) each.
+
+    The catches follow from the map's spectral radiance for any curves; the
+    errors are the map's own where its curves are the eye's, else NaN (a
+    gap: the trace's replicates were reduced to the map's classes).
+    """
+    sens = curves(eye.receptor_set, env.wavelengths_nm, sensitivities)
+    if sens.shape == env.curves.shape and np.array_equal(sens, env.curves):
+        return env.q, env.q_se
+    return quantum_catches(env.radiance, sens, env.wavelengths_nm), np.full((len(env.radiance), sens.shape[1]), np.nan)
+
+
+def write_map(path, env):
+    """Write a map to an NPZ file (whole or not at all): its arrays, its grid's directions and their solid
+    angles (``directions``, ``solid_angle_sr``, as :func:`ring_grid` makes them again from the spacing and
+    heading step), its samples, depth and seed."""
+    grid = env.grid
+    with atomic_path(path) as tmp:
+        np.savez(tmp, **{k: getattr(env, k) for k in ARRAYS}, directions=grid.directions,
+                 solid_angle_sr=grid.solid_angle_sr, **{k: np.asarray(getattr(env, k)) for k in SCALARS})
+
+
+def read_map(path):
+    """Read a map written by :func:`write_map`; bad input is one :class:`InputError` naming the file and field."""
+    try:
+        with np.load(path, allow_pickle=False) as f:
+            data = {k: f[k] for k in f.files}
+    except (OSError, ValueError, EOFError) as e:
+        raise InputError(path, "", f"not an environment map's NPZ file ({e})") from None
+    for key in (*ARRAYS, *SCALARS):
+        if key not in data:
+            raise InputError(path, key, "missing")
+        if not np.issubdtype(data[key].dtype, np.number) or not np.isfinite(data[key]).all():
+            raise InputError(path, key, "must hold finite numbers")
+    n, w = data["radiance"].shape if data["radiance"].ndim == 2 else (0, 0)
+    k = data["curves"].shape[-1] if data["curves"].ndim == 2 else 0
+    shapes = {"position_m": (3,), "wavelengths_nm": (w,), "q": (n, k), "q_se": (n, k), "curves": (w, k)}
+    for key, shape in shapes.items():
+        if n == 0 or data[key].shape != shape:
+            raise InputError(path, key, f"shape {data[key].shape}, where the map's radiance "
+                             f"{data['radiance'].shape} asks for {shape}")
+    spacing, step = float(data["spacing_deg"]), float(data["heading_step_deg"])
+    for key, value, most in (("spacing_deg", spacing, 180.0), ("heading_step_deg", step, 360.0)):
+        if not 0.0 < value <= most or abs(most / value - round(most / value)) > 1e-9:
+            raise InputError(path, key, f"{value}: {most:g}° over it must be a whole number")
+    if len(ring_grid(spacing, step).directions) != n:
+        raise InputError(path, "radiance", f"{n} directions, where the grid of spacing_deg {spacing} and "
+                         f"heading_step_deg {step} has {len(ring_grid(spacing, step).directions)}")
+    return EnvironmentMap(data["position_m"], spacing, step, data["wavelengths_nm"], data["radiance"], data["q"],
+                          data["q_se"], data["curves"], int(data["samples"]), int(data["depth"]), int(data["seed"]),
+                          str(path))
