@@ -10,8 +10,6 @@ below its own, and a place with no lower neighbour stays (a minimum). The
 catchment area is the set of places whose walk ends at the reference place
 (:func:`catchment`); its area is their number times a grid cell's, and its
 shape their extent along and across the reference heading (:func:`extent`).
-The arrows of the figure are the tIDF's negative gradient (central
-differences, :func:`numpy.gradient`).
 
 References
 ----------

@@ -140,7 +140,8 @@ def image_differences(map_files, receptor_files, eye_files, eye_names, outputs, 
                                "y_m": y, "heading_of_min_deg": best, "depth": depth, "width_deg": width})
             catch_rows.append({"eye": [name], "signal": [s], "places": [int(inside.sum())], "area_m2": [area],
                                "along_m": [along], "across_m": [across]})
-            panels.append((f"{name}: {s}", x.reshape(side, side), y.reshape(side, side), field, inside))
+            panels.append((f"{name}: {s}", x.reshape(side, side), y.reshape(side, side), field, inside,
+                           catchment.descent(field)))
     for key, rows in (("ridf", ridf_rows), ("tidf", tidf_rows), ("places", place_rows), ("catchment", catch_rows)):
         write_table(outputs[key], {k: np.concatenate([r[k] for r in rows]) for k in rows[0]})
     figures.catchment_areas(panels, (x[reference], y[reference]), heading, outputs["figure"],
