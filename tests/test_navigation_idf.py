@@ -30,8 +30,11 @@ def synthetic():
 
 def test_turned_views_are_the_resampled_ones_and_the_ridf_finds_the_turn():
     env, eye, q = synthetic()
-    views = idf.turned_catches(env, eye, heading_step_deg=STEP_DEG, q=q)
+    views = idf.turned_catches(env, eye, heading_step_deg=STEP_DEG, q=q, threads=3)
     assert views.shape == (72, 300, 2)
+    # The same bits for any threads; every other heading is every other view.
+    np.testing.assert_array_equal(idf.turned_catches(env, eye, heading_step_deg=STEP_DEG, q=q, threads=1), views)
+    np.testing.assert_array_equal(idf.turned_catches(env, eye, heading_step_deg=2 * STEP_DEG, q=q), views[::2])
     for heading in (0.0, 35.0, 250.0):
         np.testing.assert_allclose(views[round(heading / STEP_DEG)],
                                    envmap.resampled_catches(env, eye, heading_deg=heading, q=q)[0], rtol=1e-12)

@@ -24,7 +24,8 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.navigation import catchment, idf
-from beeoptics.navigation.envmap import environment_map, eye_weights, map_catches, map_spacing_deg, read_map, write_map
+from beeoptics.navigation.envmap import (HEADING_STEP_DEG, environment_map, eye_weights, map_catches, map_spacing_deg,
+                                        read_map, write_map)
 from beeoptics.pipeline.logs import log
 from beeoptics.vision.receptorset import receptor_set_of
 
@@ -42,6 +43,32 @@ def reference_xy(scene, navigation):
     """The configured reference place (x, y), m, or the scene's own eye position's."""
     given = navigation["reference_m"]
     return np.asarray(scene.scene.eye_position[:2] if given is None else given, float)
+
+
+def check(navigation, receptor_sets, source="config"):
+    """Refuse, in one :class:`InputError`, a navigation section whose heading step does not divide a turn,
+    whose reference heading is not a whole number of steps, or whose signals an eye lacks.
+
+    Parameters
+    ----------
+    navigation : dict
+        The configuration's checked ``navigation`` section.
+    receptor_sets : dict of str to ReceptorSet
+        Each of its eyes' receptor set.
+    """
+    step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
+    turns, steps = 360.0 / step, step / HEADING_STEP_DEG
+    if abs(turns - round(turns)) > 1e-9 or abs(steps - round(steps)) > 1e-9:
+        raise InputError(source, "navigation.heading_step_deg", f"{step}°: 360° over it, and it over the maps' "
+                         f"heading step {HEADING_STEP_DEG}°, must be whole numbers")
+    if abs(heading / step - round(heading / step)) > 1e-9:
+        raise InputError(source, "navigation.heading_deg", f"{heading}° is not a whole number of "
+                         f"navigation.heading_step_deg ({step}°)")
+    for eye, rs in receptor_sets.items():
+        unknown = sorted(set(navigation["signals"]) - set(idf.signal_names(rs)))
+        if unknown:
+            raise InputError(source, "navigation.signals", f"{unknown[0]!r} is not a signal of eye {eye} "
+                             f"({', '.join(idf.signal_names(rs))})")
 
 
 def eyes_of(receptor_files, eye_files):
@@ -79,9 +106,6 @@ def eye_differences(maps, eye, reference, navigation, threads=None):
     step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
     weights = eye_weights(maps[0], eye)
     at = round(heading / step)
-    if abs(at * step - heading) > 1e-9:
-        raise InputError("config", "navigation.heading_deg", f"{heading}° is not a whole number of "
-                         f"navigation.heading_step_deg ({step}°)")
     own = turned(maps[reference], eye, weights, step, threads)
     base = own[at]
     ref = idf.signals(base, eye.receptor_set, base)
@@ -115,11 +139,9 @@ def image_differences(map_files, receptor_files, eye_files, eye_names, outputs, 
     reference = len(maps) // 2
     step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
     ridf_rows, tidf_rows, place_rows, catch_rows, panels = [], [], [], [], []
-    for name, eye in zip(eye_names, eyes_of(receptor_files, eye_files)):
-        unknown = set(navigation["signals"]) - set(idf.signal_names(eye.receptor_set))
-        if unknown:
-            raise InputError("config", "navigation.signals", f"{sorted(unknown)[0]!r} is not a signal of eye "
-                             f"{name} ({', '.join(idf.signal_names(eye.receptor_set))})")
+    eyes = eyes_of(receptor_files, eye_files)
+    check(navigation, dict(zip(eye_names, (e.receptor_set for e in eyes))))
+    for name, eye in zip(eye_names, eyes):
         ridf, valleys = eye_differences(maps, eye, reference, navigation, threads)
         for s, r in ridf.items():
             headings = np.arange(r.shape[1]) * step

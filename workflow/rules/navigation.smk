@@ -2,7 +2,16 @@
 # functions and catchment areas (beeoptics.pipeline.navigation). The default run's grid is navigation.grids.small;
 # `snakemake navigation` runs navigation.grids.full.
 
+from beeoptics.pipeline import navigation
+
 NAVIGATION = config["navigation"]
+# Checked at once against the eyes' receptor sets: a signal an eye lacks, or a heading off the steps, stops the
+# run with one line before any map is traced.
+try:
+    navigation.check(NAVIGATION, {eye: RECEPTOR_SETS[eye] for eye in NAVIGATION["eyes"]},
+                     source=", ".join(map(str, workflow.configfiles)) or "config")
+except InputError as e:
+    sys.exit(f"beeoptics: error: {e}")
 #: What a grid's image differences write, under results/navigation/{scene}/{grid}/.
 NAVIGATION_FILES = ["ridf.csv", "tidf.csv", "places.csv", "catchment.csv", "catchment.png"]
 
