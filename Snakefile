@@ -49,9 +49,11 @@ include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/flights.smk"
 include: "workflow/rules/polarisation.smk"
 include: "workflow/rules/detection.smk"
+include: "workflow/rules/navigation.smk"
 
 
 rule all:
     input:
         all_targets(),
+        navigation_targets("small"),
     default_target: True

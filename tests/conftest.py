@@ -146,6 +146,9 @@ def workdir(tmp_path_factory):
         "polarisation": {"eyes": ["tiny"], "scenes": ["flower"], "samples_per_receptor": 8,
                          "compass": {"headings": 8, "samples_per_receptor": 8, "turbidities": [5],
                                      "heights_m": [0.02]}},
+        # Views for navigation: one place (its map, every 10° heading, a catchment of one), the stages' outputs.
+        "navigation": {"eyes": ["tiny"], "scenes": ["flower"], "heading_step_deg": 10,
+                       "grids": {"small": {"extent_m": 0.0, "spacing_m": 0.1}}},
     }
     (work / "config.yaml").write_text(yaml.safe_dump(config))
     # The workflow's own files (report captions) are found beside its Snakefile.

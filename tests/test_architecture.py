@@ -24,7 +24,8 @@ ALLOWED = {
     "light": {"light", "eye", "io", *SHARED},
     "vision": {"vision", "io", *SHARED},
     "images": {"images", "vision", "light", "eye", "io", *SHARED},
-    "pipeline": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    # The navigation stage reads its maps and eyes through the API's records and calls beeoptics.navigation.
+    "pipeline": {"api", "navigation", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
     # Views for navigation: maps traced by the receptors' tracer (a stage's function), resampled to eyes.
     "navigation": {"navigation", "pipeline", "vision", "light", "eye", "io", *SHARED},
     "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},

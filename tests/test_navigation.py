@@ -7,9 +7,7 @@ from scipy.special import ndtr
 import beeoptics
 from beeoptics.io.errors import InputError
 from beeoptics.light.sensors import cone_sigma
-from beeoptics.navigation import envmap, idf
-from beeoptics.spectra import grid
-from beeoptics.vision.receptorset import curves
+from beeoptics.navigation import envmap
 from conftest import DATA
 
 EYE = DATA / "eyes" / "tiny" / "eye.yaml"
@@ -110,33 +108,3 @@ def test_a_map_file_is_read_back_or_refused_in_one_line(env, eye, scene, tmp_pat
     path.write_text("not a map")
     with pytest.raises(InputError, match=r"map\.npz: not an environment map"):
         envmap.read_map(path)
-
-
-@pytest.fixture(scope="module")
-def patterned(eye):
-    """A map (5° heading steps) of a sky lit from one side, with a bright patch on the ground of other colours."""
-    wl = grid(300.0, 700.0, 20.0)
-    spacing = envmap.map_spacing_deg(eye.table.delta_rho_deg)
-    d = envmap.ring_grid(spacing, 5.0).directions
-    q = np.column_stack([1.0 + (d[:, 2] > 0) * (1.5 + d[:, 0]), 1.0 + 0.5 * (d[:, 1] > 0.5),
-                         1.0 + (d @ [0.6, -0.6, -0.53] > 0.9) * 2.0])
-    return envmap.EnvironmentMap(np.zeros(3), spacing, 5.0, wl, np.zeros((len(d), len(wl))), q, 0.01 * q,
-                                 curves(eye.receptor_set, wl), 8, 1, 1)
-
-
-def test_the_ridf_is_zero_at_the_reference_heading_and_the_same_in_any_light(eye, patterned):
-    headings = np.arange(0.0, 360.0, 5.0)
-    catches, _ = envmap.resampled_catches(patterned, eye, heading_deg=40.0)
-    reference = idf.signals(catches, eye, patterned.wavelengths_nm, patterned.curves)
-    assert set(reference) == {"UV", "B", "G", "achromatic", "UV-G"}
-    rotational = idf.ridf(patterned, eye, reference, headings)
-    brighter = idf.ridf(patterned._replace(q=3.0 * patterned.q), eye, reference, headings)
-    for name, d in rotational.items():
-        heading, depth, width = idf.ridf_minimum(headings, d)
-        assert heading == 40.0 and d.min() < 1e-12 and 0.0 < depth <= 1.0 and 0.0 < width < 360.0, name
-        # Each view is adapted to itself: a light three times as bright leaves every difference as it was.
-        np.testing.assert_allclose(brighter[name], d, rtol=1e-9, atol=1e-12, err_msg=name)
-    # Over places (here the reference's own and one whose patch is elsewhere): zero at the reference alone.
-    elsewhere = patterned._replace(q=patterned.q[::-1].copy())
-    translational = idf.tidf([patterned, elsewhere], eye, reference, 40.0)
-    assert all(d[0] < 1e-12 < d[1] for d in translational.values()), translational

@@ -675,3 +675,50 @@ def flight_detection(columns, first, rule, path, title):
     contrast.set_ylabel("JND")
     fig.suptitle(textwrap.fill(title, 100), fontsize=9)
     save(fig, path)
+
+
+def catchment_areas(panels, reference_xy, heading_deg, path, title):
+    """Catchment areas on a grid of places: one panel per eye and signal, the tIDF in grey, its descent as
+    arrows (each place's step to its next place), the catchment area outlined and the reference place and
+    heading marked.
+
+    Parameters
+    ----------
+    panels : list of (str, ndarray, ndarray, ndarray, ndarray, ndarray)
+        Each panel's title, the places' x and y (rows, columns), m, the tIDF,
+        whether each place is in the catchment area (bool) and each place's
+        next place descending (flat indices, :func:`beeoptics.navigation.catchment.descent`).
+    reference_xy : (float, float)
+        The reference place, m.
+    heading_deg : float
+        The reference heading, degrees from +x towards +y.
+    """
+    columns = min(len(panels), 4)
+    rows = -(-len(panels) // columns)
+    fig = Figure(figsize=(2.6 * columns, 2.6 * rows + 0.5), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(rows, columns, squeeze=False)).ravel()
+    for ax, (label, x, y, field, inside, step) in zip(axes, panels):
+        spacing = x[0, 1] - x[0, 0] if x.shape[1] > 1 else 1.0
+        edges = (x.min() - spacing / 2, x.max() + spacing / 2, y.min() - spacing / 2, y.max() + spacing / 2)
+        ax.imshow(field, origin="lower", extent=edges, cmap="Greys", interpolation="nearest")
+        ax.set_xlim(edges[:2])
+        ax.set_ylim(edges[2:])
+        moves = step.ravel() != np.arange(step.size)
+        ax.quiver(x.ravel()[moves], y.ravel()[moves], (x.ravel()[step.ravel()] - x.ravel())[moves],
+                  (y.ravel()[step.ravel()] - y.ravel())[moves], color="tab:orange", angles="xy", scale_units="xy",
+                  scale=1.5, width=0.012)
+        # Outlined on the grid padded with a ring of places outside, so that a catchment reaching its edge closes.
+        ring = np.arange(-1, x.shape[1] + 1) * spacing + x[0, 0], np.arange(-1, x.shape[0] + 1) * spacing + y[0, 0]
+        ax.contour(*ring, np.pad(inside.astype(float), 1), levels=[0.5], colors="tab:blue", linewidths=1.2)
+        h = np.radians(heading_deg)
+        ax.plot(*reference_xy, "o", color="tab:blue", ms=4)
+        ax.annotate("", xy=(reference_xy[0] + spacing * np.cos(h), reference_xy[1] + spacing * np.sin(h)),
+                    xytext=reference_xy, arrowprops={"arrowstyle": "->", "color": "tab:blue"})
+        ax.set_title(label, fontsize=8)
+        ax.set_aspect("equal")
+        ax.tick_params(labelsize=6)
+    for ax in axes[len(panels):]:
+        ax.set_axis_off()
+    fig.suptitle(textwrap.fill(f"{title} (grey: tIDF, darker higher; arrows: its descent, place to place; blue: the catchment "
+                               "area and the reference place and heading; x, y in m)", 40 * columns), fontsize=8)
+    save(fig, path)

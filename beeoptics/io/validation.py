@@ -205,15 +205,15 @@ def within_run(config):
 
     A user asking for the drone in the meadow gets the drone in the meadow:
     a flight runs for those of its eyes that are among ``eyes``, and only if
-    its scene is among ``scenes`` (and not at all if set to null); polarisation and the detection survey run
-    for their eyes and scenes that are in the run (both or neither). Sweeps
+    its scene is among ``scenes`` (and not at all if set to null); polarisation, the detection survey and
+    navigation run for their eyes and scenes that are in the run (both or neither). Sweeps
     and the comparison name what they run on their own.
     """
     eyes, scenes = config["eyes"], config["scenes"]
     config["flights"] = {name: {**flight, "eyes": [e for e in flight["eyes"] if e in eyes]}
                          for name, flight in config["flights"].items()
                          if flight is not None and flight["scene"] in scenes and set(flight["eyes"]) & set(eyes)}
-    for key in ("polarisation", "detection"):
+    for key in ("polarisation", "detection", "navigation"):
         section = config[key]
         kept = [e for e in section["eyes"] if e in eyes], [s for s in section["scenes"] if s in scenes]
         section["eyes"], section["scenes"] = kept if all(kept) else ([], [])

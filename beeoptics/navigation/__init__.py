@@ -1,6 +1,6 @@
 """Views for navigation: environment maps traced once at a place, from which any eye at any heading, pitch
-and roll there is resampled (:mod:`~beeoptics.navigation.envmap`), and the image-difference functions of
-those views over headings and places (:mod:`~beeoptics.navigation.idf`)."""
+and roll there is resampled (:mod:`~beeoptics.navigation.envmap`); image-difference functions over headings
+and places (:mod:`~beeoptics.navigation.idf`); catchment areas (:mod:`~beeoptics.navigation.catchment`)."""
 
 from beeoptics._exports import exports
 
@@ -8,5 +8,6 @@ __all__, __getattr__ = exports(__name__, {
     "envmap": ("EnvironmentMap", "Grid", "direction_tree", "environment_map", "eye_weights", "map_catches",
                "map_spacing_deg", "read_map", "resampled_catches", "resampling_matrix", "ring_grid", "turn_order",
                "write_map"),
-    "idf": ("ACHROMATIC", "OPPONENT", "image_difference", "ridf", "ridf_minimum", "signals", "tidf"),
+    "idf": ("image_difference", "signal_names", "signals", "turned_catches", "valley"),
+    "catchment": ("catchment", "descent", "extent"),
 })

@@ -1,0 +1,170 @@
+"""The navigation stages: environment maps on a grid of places, then image differences and catchment areas.
+
+A square grid of places about the reference place, level at the configured
+height, each traced once as an environment map
+(:func:`beeoptics.navigation.envmap.environment_map`, at the finest spacing
+the navigation's eyes ask for, so that one map serves them all). Then for
+each eye: every place's view at every heading resampled from its map
+(:func:`beeoptics.navigation.idf.turned_catches`), the rIDF of each against
+the reference view (the reference place's view at the reference heading) in
+each signal, the tIDF (each place's view at the reference heading, as Zeil
+et al. 2003 took their grids' images: the camera's orientation held), the
+rIDF's valley, and the tIDF's catchment area
+(:mod:`beeoptics.navigation.catchment`).
+
+Each stage reads its inputs, calls the library and writes ``outputs``, a
+mapping of output names to paths, atomically.
+"""
+
+import numpy as np
+
+from beeoptics.api import Eye, load_scene
+from beeoptics.images import figures
+from beeoptics.io.errors import InputError
+from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.table import write_table
+from beeoptics.navigation import catchment, idf
+from beeoptics.navigation.envmap import (HEADING_STEP_DEG, environment_map, eye_weights, map_catches, map_spacing_deg,
+                                        read_map, write_map)
+from beeoptics.pipeline.logs import log
+from beeoptics.vision.receptorset import receptor_set_of
+
+
+def grid_places(reference_xy, height_m, extent_m, spacing_m):
+    """The grid's places: x and y (rows, columns), m, centred on the reference, its side the extent rounded to
+    an even number of spacings, and the places' height; the reference is the middle place."""
+    half = int(round(extent_m / 2.0 / spacing_m))
+    steps = np.arange(-half, half + 1) * spacing_m
+    y, x = np.meshgrid(reference_xy[1] + steps, reference_xy[0] + steps, indexing="ij")
+    return x, y, float(height_m)
+
+
+def reference_xy(scene, navigation):
+    """The configured reference place (x, y), m, or the scene's own eye position's."""
+    given = navigation["reference_m"]
+    return np.asarray(scene.scene.eye_position[:2] if given is None else given, float)
+
+
+def check(navigation, receptor_sets, source="config"):
+    """Refuse, in one :class:`InputError`, a navigation section whose heading step does not divide a turn,
+    whose reference heading is not a whole number of steps, or whose signals an eye lacks.
+
+    Parameters
+    ----------
+    navigation : dict
+        The configuration's checked ``navigation`` section.
+    receptor_sets : dict of str to ReceptorSet
+        Each of its eyes' receptor set.
+    """
+    step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
+    turns, steps = 360.0 / step, step / HEADING_STEP_DEG
+    if abs(turns - round(turns)) > 1e-9 or abs(steps - round(steps)) > 1e-9:
+        raise InputError(source, "navigation.heading_step_deg", f"{step}°: 360° over it, and it over the maps' "
+                         f"heading step {HEADING_STEP_DEG}°, must be whole numbers")
+    if abs(heading / step - round(heading / step)) > 1e-9:
+        raise InputError(source, "navigation.heading_deg", f"{heading}° is not a whole number of "
+                         f"navigation.heading_step_deg ({step}°)")
+    for eye, rs in receptor_sets.items():
+        unknown = sorted(set(navigation["signals"]) - set(idf.signal_names(rs)))
+        if unknown:
+            raise InputError(source, "navigation.signals", f"{unknown[0]!r} is not a signal of eye {eye} "
+                             f"({', '.join(idf.signal_names(rs))})")
+
+
+def eyes_of(receptor_files, eye_files):
+    """The eyes, each its receptor table and its eye.yaml's receptor set."""
+    return [Eye(r, read_receptors(r), receptor_set_of(e), e) for r, e in zip(receptor_files, eye_files)]
+
+
+def trace_map(scene_file, receptor_files, eye_files, outputs, *, place, navigation, grid, spectral, threads=None):
+    """Trace the environment map of grid place ``place`` (row-major) into ``outputs["map"]``.
+
+    Its spacing is the finest of the rule's for the eyes (their smallest Δρ
+    over four), its receptor curves the first eye's; the others' catches are
+    taken from its spectral radiance.
+    """
+    scene = load_scene(scene_file, **spectral)
+    x, y, z = grid_places(reference_xy(scene, navigation), navigation["height_m"], **navigation["grids"][grid])
+    eyes = eyes_of(receptor_files, eye_files)
+    spacing = min(map_spacing_deg(e.table.delta_rho_deg) for e in eyes)
+    m = navigation["map"]
+    env = environment_map(scene, (x.flat[place], y.flat[place], z), eyes[0], spacing_deg=spacing,
+                          samples=m["samples"], depth=m["depth"], seed=m["seed"], threads=threads)
+    write_map(outputs["map"], env)
+    log.info("place %d at (%.3f, %.3f, %.3f) m: %d directions %.3g° apart", place, x.flat[place], y.flat[place], z,
+             len(env.radiance), env.spacing_deg)
+
+
+def eye_differences(maps, eye, reference, navigation, threads=None):
+    """One eye's rIDFs and valleys at every place against the reference view, in every signal.
+
+    Returns
+    -------
+    ridf : dict of str to ndarray (places, headings)
+    valleys : dict of str to (heading_deg, depth, width_deg), each (places,)
+    """
+    step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
+    weights = eye_weights(maps[0], eye)
+    at = round(heading / step)
+    own = turned(maps[reference], eye, weights, step, threads)
+    base = own[at]
+    ref = idf.signals(base, eye.receptor_set, base)
+    names = [s for s in idf.signal_names(eye.receptor_set) if s in navigation["signals"]]
+    ridf = {s: [] for s in names}
+    # Place by place: a place's views at every heading are (headings × receptors × classes), some 100 MB.
+    for place, env in enumerate(maps):
+        views = own if place == reference else turned(env, eye, weights, step, threads)
+        views = idf.signals(views, eye.receptor_set, base)
+        for s in names:
+            ridf[s].append(idf.image_difference(views[s], ref[s]))
+    ridf = {s: np.array(v) for s, v in ridf.items()}
+    return ridf, {s: idf.valley(v, step) for s, v in ridf.items()}
+
+
+def turned(env, eye, weights, step, threads):
+    """A map's views at every heading ``step`` apart, (headings, receptors, k)."""
+    return idf.turned_catches(env, eye, heading_step_deg=step, weights=weights, q=map_catches(env, eye),
+                              threads=threads)
+
+
+def image_differences(map_files, receptor_files, eye_files, eye_names, outputs, *, scene, navigation, grid,
+                      threads=None):
+    """The rIDFs, tIDFs, valleys and catchment areas of every eye over a grid's maps: ``outputs`` ``ridf``,
+    ``tidf``, ``places``, ``catchment`` (CSV) and ``figure`` (PNG)."""
+    maps = [read_map(f) for f in map_files]
+    spec = navigation["grids"][grid]
+    x = np.array([m.position_m[0] for m in maps])
+    y = np.array([m.position_m[1] for m in maps])
+    side = int(round(np.sqrt(len(maps))))
+    reference = len(maps) // 2
+    step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
+    ridf_rows, tidf_rows, place_rows, catch_rows, panels = [], [], [], [], []
+    eyes = eyes_of(receptor_files, eye_files)
+    check(navigation, dict(zip(eye_names, (e.receptor_set for e in eyes))))
+    for name, eye in zip(eye_names, eyes):
+        ridf, valleys = eye_differences(maps, eye, reference, navigation, threads)
+        for s, r in ridf.items():
+            headings = np.arange(r.shape[1]) * step
+            ridf_rows.append({"eye": np.full(r.size, name), "signal": np.full(r.size, s),
+                              "place": np.repeat(np.arange(len(maps)), r.shape[1]),
+                              "heading_deg": np.tile(headings, len(maps)), "idf": r.ravel()})
+            tidf = r[:, round(heading / step)]
+            best, depth, width = valleys[s]
+            field = tidf.reshape(side, side)
+            inside = catchment.catchment(field, np.unravel_index(reference, field.shape))
+            area, along, across = catchment.extent(inside, x.reshape(side, side), y.reshape(side, side), heading,
+                                                   spec["spacing_m"])
+            n = len(maps)
+            tidf_rows.append({"eye": np.full(n, name), "signal": np.full(n, s), "place": np.arange(n), "x_m": x,
+                              "y_m": y, "tidf": tidf, "tidf_best": r.min(axis=1),
+                              "in_catchment": inside.ravel().astype(int)})
+            place_rows.append({"eye": np.full(n, name), "signal": np.full(n, s), "place": np.arange(n), "x_m": x,
+                               "y_m": y, "heading_of_min_deg": best, "depth": depth, "width_deg": width})
+            catch_rows.append({"eye": [name], "signal": [s], "places": [int(inside.sum())], "area_m2": [area],
+                               "along_m": [along], "across_m": [across]})
+            panels.append((f"{name}: {s}", x.reshape(side, side), y.reshape(side, side), field, inside,
+                           catchment.descent(field)))
+    for key, rows in (("ridf", ridf_rows), ("tidf", tidf_rows), ("places", place_rows), ("catchment", catch_rows)):
+        write_table(outputs[key], {k: np.concatenate([r[k] for r in rows]) for k in rows[0]})
+    figures.catchment_areas(panels, (x[reference], y[reference]), heading, outputs["figure"],
+                            f"{scene}: catchment areas of the reference view by signal")

@@ -1,0 +1,85 @@
+# Views for navigation: environment maps on a grid of places about a reference, then each eye's image-difference
+# functions and catchment areas (beeoptics.pipeline.navigation). The default run's grid is navigation.grids.small;
+# `snakemake navigation` runs navigation.grids.full.
+
+from beeoptics.pipeline import navigation
+
+NAVIGATION = config["navigation"]
+# Checked at once against the eyes' receptor sets: a signal an eye lacks, or a heading off the steps, stops the
+# run with one line before any map is traced.
+try:
+    navigation.check(NAVIGATION, {eye: RECEPTOR_SETS[eye] for eye in NAVIGATION["eyes"]},
+                     source=", ".join(map(str, workflow.configfiles)) or "config")
+except InputError as e:
+    sys.exit(f"beeoptics: error: {e}")
+#: What a grid's image differences write, under results/navigation/{scene}/{grid}/.
+NAVIGATION_FILES = ["ridf.csv", "tidf.csv", "places.csv", "catchment.csv", "catchment.png"]
+
+
+def navigation_places(grid):
+    """The places of a grid: (2 round(extent / 2 spacing) + 1)² (beeoptics.pipeline.navigation.grid_places)."""
+    spec = NAVIGATION["grids"][grid]
+    return (2 * round(spec["extent_m"] / 2 / spec["spacing_m"]) + 1) ** 2
+
+
+def navigation_targets(grid):
+    return [f"results/navigation/{scene}/{grid}/{name}" for scene in NAVIGATION["scenes"]
+            for name in NAVIGATION_FILES if NAVIGATION["eyes"]]
+
+
+wildcard_constraints:
+    grid="small|full",
+    place="[0-9]+",
+
+
+rule navigation_map:
+    input:
+        receptors=expand("results/eyes/{eye}/receptors.csv", eye=NAVIGATION["eyes"]),
+        scene=scene_sources,
+    output:
+        map="results/navigation/{scene}/{grid}/maps/{place}.npz",
+    params:
+        scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
+        eyes=[EYES_DIR / eye / "eye.yaml" for eye in NAVIGATION["eyes"]],
+        # Only what places and traces a map: another grid's size or the signals leave the maps as they are.
+        navigation=lambda w: {k: NAVIGATION[k] for k in ("reference_m", "height_m", "map")}
+        | {"grids": {w.grid: NAVIGATION["grids"][w.grid]}},
+        spectral=config["spectral"],
+    log:
+        "results/logs/navigation/{scene}/{grid}/maps/{place}.log",
+    threads: TRACING_THREADS
+    resources:
+        mem_mb=3000,
+        runtime=30,
+    script:
+        "../scripts/navigation_map.py"
+
+
+rule navigation_idf:
+    input:
+        maps=lambda w: [f"results/navigation/{w.scene}/{w.grid}/maps/{p}.npz" for p in range(navigation_places(w.grid))],
+        receptors=expand("results/eyes/{eye}/receptors.csv", eye=NAVIGATION["eyes"]),
+    output:
+        ridf="results/navigation/{scene}/{grid}/ridf.csv",
+        tidf="results/navigation/{scene}/{grid}/tidf.csv",
+        places="results/navigation/{scene}/{grid}/places.csv",
+        catchment="results/navigation/{scene}/{grid}/catchment.csv",
+        figure=report("results/navigation/{scene}/{grid}/catchment.png", caption="../report/catchment.rst",
+                      category="Navigation", subcategory="{scene} {grid}"),
+    params:
+        eyes=[EYES_DIR / eye / "eye.yaml" for eye in NAVIGATION["eyes"]],
+        names=NAVIGATION["eyes"],
+        navigation=NAVIGATION,
+    log:
+        "results/logs/navigation/{scene}/{grid}/idf.log",
+    threads: 2
+    resources:
+        mem_mb=4000,
+        runtime=60,
+    script:
+        "../scripts/navigation_idf.py"
+
+
+rule navigation:
+    input:
+        navigation_targets("full"),
