@@ -98,9 +98,16 @@ def test_a_map_file_is_read_back_or_refused_in_one_line(env, eye, scene, tmp_pat
     path = tmp_path / "map.npz"
     envmap.write_map(path, env)
     back = envmap.read_map(path)
-    for field in envmap.ARRAYS:
+    for field in (*envmap.ARRAYS, "radiance"):
         np.testing.assert_array_equal(getattr(back, field), getattr(env, field))
     assert (back.spacing_deg, back.heading_step_deg, back.samples, back.depth, back.seed) == (2.5, STEP_DEG, 8, 1, 5)
+    # Without its spectral radiance a map serves eyes of its own classes, and refuses others in one line.
+    envmap.write_map(tmp_path / "lean.npz", env, spectral=False)
+    lean = envmap.read_map(tmp_path / "lean.npz")
+    assert lean.radiance is None and all(np.array_equal(a, b) for a, b in zip(envmap.map_catches(lean, eye),
+                                                                                envmap.map_catches(env, eye)))
+    with pytest.raises(InputError, match=r"lean\.npz: radiance: the map keeps its catches in its own"):
+        envmap.map_catches(lean, eye, sensitivities="template")
     data = dict(np.load(path))
     np.savez(path, **{**data, "q_se": data["q_se"][:-1]})
     with pytest.raises(InputError, match=r"map\.npz: q_se: shape"):

@@ -107,7 +107,7 @@ KERNEL_CUT_SIGMAS = 4.0
 #: some 170 MB at 81 wavelengths) without changing a number (every direction draws its own stream).
 CHUNK = 1 << 15
 #: The arrays a map file holds, beside its scalars.
-ARRAYS = ("position_m", "wavelengths_nm", "radiance", "q", "q_se", "curves")
+ARRAYS = ("position_m", "wavelengths_nm", "q", "q_se", "curves")
 #: Its scalars.
 SCALARS = ("spacing_deg", "heading_step_deg", "samples", "depth", "seed")
 
@@ -146,9 +146,10 @@ class EnvironmentMap(NamedTuple):
     heading_step_deg : float
         The turn, degrees, whose whole multiples map the grid onto itself.
     wavelengths_nm : ndarray (w,)
-    radiance : ndarray (n, w)
+    radiance : ndarray (n, w) or None
         Each direction's mean spectral radiance over its acceptance of
-        Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` h, W m⁻² sr⁻¹ nm⁻¹.
+        Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` h, W m⁻² sr⁻¹ nm⁻¹; None for
+        a map read from a file written without it (:func:`write_map`).
     q, q_se : ndarray (n, k)
         Its radiance catches in the classes of ``curves``
         (photons m⁻² s⁻¹ sr⁻¹: :func:`beeoptics.vision.catches.quantum_catches`
@@ -430,16 +431,21 @@ def map_catches(env, eye, sensitivities=DEFAULT_CURVES):
     sens = curves(eye.receptor_set, env.wavelengths_nm, sensitivities)
     if sens.shape == env.curves.shape and np.array_equal(sens, env.curves):
         return env.q, env.q_se
+    if env.radiance is None:
+        raise InputError(env.source, "radiance", "the map keeps its catches in its own receptor classes only (it "
+                         "was written without its spectral radiance): an eye of other classes needs it traced again")
     return quantum_catches(env.radiance, sens, env.wavelengths_nm), np.full((len(env.radiance), sens.shape[1]), np.nan)
 
 
-def write_map(path, env):
+def write_map(path, env, spectral=True):
     """Write a map to an NPZ file (whole or not at all): its arrays, its grid's directions and their solid
     angles (``directions``, ``solid_angle_sr``, as :func:`ring_grid` makes them again from the spacing and
-    heading step), its samples, depth and seed."""
+    heading step), its samples, depth and seed; its spectral radiance unless ``spectral`` is false (the
+    worker's map at 5 nm is then some 20 MB, not 190 MB, and serves only eyes of the map's own classes)."""
     grid = env.grid
+    spectrum = {"radiance": env.radiance} if spectral and env.radiance is not None else {}
     with atomic_path(path) as tmp:
-        np.savez(tmp, **{k: getattr(env, k) for k in ARRAYS}, directions=grid.directions,
+        np.savez(tmp, **{k: getattr(env, k) for k in ARRAYS}, **spectrum, directions=grid.directions,
                  solid_angle_sr=grid.solid_angle_sr, **{k: np.asarray(getattr(env, k)) for k in SCALARS})
 
 
@@ -450,25 +456,26 @@ def read_map(path):
             data = {k: f[k] for k in f.files}
     except (OSError, ValueError, EOFError) as e:
         raise InputError(path, "", f"not an environment map's NPZ file ({e})") from None
-    for key in (*ARRAYS, *SCALARS):
+    for key in (*ARRAYS, *SCALARS, *(("radiance",) if "radiance" in data else ())):
         if key not in data:
             raise InputError(path, key, "missing")
         if not np.issubdtype(data[key].dtype, np.number) or not np.isfinite(data[key]).all():
             raise InputError(path, key, "must hold finite numbers")
-    n, w = data["radiance"].shape if data["radiance"].ndim == 2 else (0, 0)
-    k = data["curves"].shape[-1] if data["curves"].ndim == 2 else 0
-    shapes = {"position_m": (3,), "wavelengths_nm": (w,), "q": (n, k), "q_se": (n, k), "curves": (w, k)}
+    n = len(data["q"]) if data["q"].ndim == 2 else 0
+    w, k = data["curves"].shape if data["curves"].ndim == 2 else (0, 0)
+    shapes = {"position_m": (3,), "wavelengths_nm": (w,), "q": (n, k), "q_se": (n, k), "curves": (w, k),
+              **({"radiance": (n, w)} if "radiance" in data else {})}
     for key, shape in shapes.items():
         if n == 0 or data[key].shape != shape:
-            raise InputError(path, key, f"shape {data[key].shape}, where the map's radiance "
-                             f"{data['radiance'].shape} asks for {shape}")
+            raise InputError(path, key, f"shape {data[key].shape}, where the map's catches {data['q'].shape} "
+                             f"and curves {data['curves'].shape} ask for {shape}")
     spacing, step = float(data["spacing_deg"]), float(data["heading_step_deg"])
     for key, value, most in (("spacing_deg", spacing, 180.0), ("heading_step_deg", step, 360.0)):
         if not 0.0 < value <= most or abs(most / value - round(most / value)) > 1e-9:
             raise InputError(path, key, f"{value}: {most:g}° over it must be a whole number")
     if len(ring_grid(spacing, step).directions) != n:
-        raise InputError(path, "radiance", f"{n} directions, where the grid of spacing_deg {spacing} and "
+        raise InputError(path, "q", f"{n} directions, where the grid of spacing_deg {spacing} and "
                          f"heading_step_deg {step} has {len(ring_grid(spacing, step).directions)}")
-    return EnvironmentMap(data["position_m"], spacing, step, data["wavelengths_nm"], data["radiance"], data["q"],
+    return EnvironmentMap(data["position_m"], spacing, step, data["wavelengths_nm"], data.get("radiance"), data["q"],
                           data["q_se"], data["curves"], int(data["samples"]), int(data["depth"]), int(data["seed"]),
                           str(path))

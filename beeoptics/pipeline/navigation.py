@@ -27,7 +27,7 @@ from beeoptics.navigation import catchment, idf
 from beeoptics.navigation.envmap import (HEADING_STEP_DEG, environment_map, eye_weights, map_catches, map_spacing_deg,
                                         read_map, write_map)
 from beeoptics.pipeline.logs import log
-from beeoptics.vision.receptorset import receptor_set_of
+from beeoptics.vision.receptorset import curves, receptor_set_of
 
 
 def grid_places(reference_xy, height_m, extent_m, spacing_m):
@@ -90,9 +90,11 @@ def trace_map(scene_file, receptor_files, eye_files, outputs, *, place, navigati
     m = navigation["map"]
     env = environment_map(scene, (x.flat[place], y.flat[place], z), eyes[0], spacing_deg=spacing,
                           samples=m["samples"], depth=m["depth"], seed=m["seed"], threads=threads)
-    write_map(outputs["map"], env)
+    # The spectral radiance (some 190 MB a map for the worker at 5 nm) only where an eye of other classes needs it.
+    spectral = any(not np.array_equal(curves(e.receptor_set, env.wavelengths_nm), env.curves) for e in eyes[1:])
+    write_map(outputs["map"], env, spectral=spectral)
     log.info("place %d at (%.3f, %.3f, %.3f) m: %d directions %.3g° apart", place, x.flat[place], y.flat[place], z,
-             len(env.radiance), env.spacing_deg)
+             len(env.q), env.spacing_deg)
 
 
 def eye_differences(maps, eye, reference, navigation, threads=None):
