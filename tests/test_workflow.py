@@ -41,7 +41,7 @@ def test_every_artifact_is_written(workdir):
     for name in ("polarisation.csv", "field.png", "retina.png", "dorsal_rim.png", "compass.csv", "compass.json",
                  "compass.png"):
         assert (workdir / "results" / "tiny" / "flower" / "polarisation" / name).stat().st_size > 0
-    for name in ("maps/0.npz", "ridf.csv", "tidf.csv", "places.csv", "catchment.csv", "catchment.png"):
+    for name in ("maps/0/0.npz", "ridf.csv", "tidf.csv", "places.csv", "catchment.csv", "catchment.png"):
         assert (workdir / "results" / "navigation" / "flower" / "small" / name).stat().st_size > 0
 
 

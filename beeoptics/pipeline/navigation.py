@@ -16,6 +16,8 @@ Each stage reads its inputs, calls the library and writes ``outputs``, a
 mapping of output names to paths, atomically.
 """
 
+from pathlib import Path
+
 import numpy as np
 
 from beeoptics.api import Eye, load_scene
@@ -76,8 +78,11 @@ def eyes_of(receptor_files, eye_files):
     return [Eye(r, read_receptors(r), receptor_set_of(e), e) for r, e in zip(receptor_files, eye_files)]
 
 
-def trace_map(scene_file, receptor_files, eye_files, outputs, *, place, navigation, grid, spectral, threads=None):
-    """Trace the environment map of grid place ``place`` (row-major) into ``outputs["map"]``.
+def trace_maps(scene_file, receptor_files, eye_files, folder, *, places, navigation, grid, spectral, threads=None):
+    """Trace the environment maps of grid places ``places`` (row-major) into ``folder``, ``{place}.npz`` each.
+
+    The scene and the eyes are read once for all of them (a job's start and
+    the meadow's reading cost several maps' tracing).
 
     Its spacing is the finest of the rule's for the eyes (their smallest Δρ
     over four), its receptor curves the first eye's; the others' catches are
@@ -88,13 +93,17 @@ def trace_map(scene_file, receptor_files, eye_files, outputs, *, place, navigati
     eyes = eyes_of(receptor_files, eye_files)
     spacing = min(map_spacing_deg(e.table.delta_rho_deg) for e in eyes)
     m = navigation["map"]
-    env = environment_map(scene, (x.flat[place], y.flat[place], z), eyes[0], spacing_deg=spacing,
-                          samples=m["samples"], depth=m["depth"], seed=m["seed"], threads=threads)
-    # The spectral radiance (some 190 MB a map for the worker at 5 nm) only where an eye of other classes needs it.
-    spectral = any(not np.array_equal(curves(e.receptor_set, env.wavelengths_nm), env.curves) for e in eyes[1:])
-    write_map(outputs["map"], env, spectral=spectral)
-    log.info("place %d at (%.3f, %.3f, %.3f) m: %d directions %.3g° apart", place, x.flat[place], y.flat[place], z,
-             len(env.q), env.spacing_deg)
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    for place in places:
+        env = environment_map(scene, (x.flat[place], y.flat[place], z), eyes[0], spacing_deg=spacing,
+                              samples=m["samples"], depth=m["depth"], seed=m["seed"], threads=threads)
+        # The spectral radiance (some 190 MB a map for the worker at 5 nm) only where an eye of other classes
+        # needs it.
+        spectral = any(not np.array_equal(curves(e.receptor_set, env.wavelengths_nm), env.curves) for e in eyes[1:])
+        write_map(folder / f"{place}.npz", env, spectral=spectral)
+        log.info("place %d at (%.3f, %.3f, %.3f) m: %d directions %.3g° apart", place, x.flat[place],
+                 y.flat[place], z, len(env.q), env.spacing_deg)
 
 
 def eye_differences(maps, eye, reference, navigation, threads=None):
@@ -129,11 +138,13 @@ def turned(env, eye, weights, step, threads):
                               threads=threads)
 
 
-def image_differences(map_files, receptor_files, eye_files, eye_names, outputs, *, scene, navigation, grid,
+def image_differences(map_folders, receptor_files, eye_files, eye_names, outputs, *, scene, navigation, grid,
                       threads=None):
-    """The rIDFs, tIDFs, valleys and catchment areas of every eye over a grid's maps: ``outputs`` ``ridf``,
-    ``tidf``, ``places``, ``catchment`` (CSV) and ``figure`` (PNG)."""
-    maps = [read_map(f) for f in map_files]
+    """The rIDFs, tIDFs, valleys and catchment areas of every eye over a grid's maps (``{place}.npz`` in the
+    folders of :func:`trace_maps`): ``outputs`` ``ridf``, ``tidf``, ``places``, ``catchment`` (CSV) and
+    ``figure`` (PNG)."""
+    files = sorted((f for d in map_folders for f in Path(d).glob("*.npz")), key=lambda f: int(f.stem))
+    maps = [read_map(f) for f in files]
     spec = navigation["grids"][grid]
     x = np.array([m.position_m[0] for m in maps])
     y = np.array([m.position_m[1] for m in maps])

@@ -22,6 +22,17 @@ def navigation_places(grid):
     return (2 * round(spec["extent_m"] / 2 / spec["spacing_m"]) + 1) ** 2
 
 
+def navigation_chunks(grid):
+    """The jobs of a grid's maps: navigation.map.places_per_job places each."""
+    return -(-navigation_places(grid) // NAVIGATION["map"]["places_per_job"])
+
+
+def chunk_places(grid, chunk):
+    """The places (row-major) the job ``chunk`` of a grid's maps traces."""
+    per = NAVIGATION["map"]["places_per_job"]
+    return list(range(int(chunk) * per, min((int(chunk) + 1) * per, navigation_places(grid))))
+
+
 def navigation_targets(grid):
     return [f"results/navigation/{scene}/{grid}/{name}" for scene in NAVIGATION["scenes"]
             for name in NAVIGATION_FILES if NAVIGATION["eyes"]]
@@ -29,7 +40,7 @@ def navigation_targets(grid):
 
 wildcard_constraints:
     grid="small|full",
-    place="[0-9]+",
+    chunk="[0-9]+",
 
 
 rule navigation_map:
@@ -37,16 +48,17 @@ rule navigation_map:
         receptors=expand("results/eyes/{eye}/receptors.csv", eye=NAVIGATION["eyes"]),
         scene=scene_sources,
     output:
-        map="results/navigation/{scene}/{grid}/maps/{place}.npz",
+        maps=directory("results/navigation/{scene}/{grid}/maps/{chunk}"),
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
+        places=lambda w: chunk_places(w.grid, w.chunk),
         eyes=[EYES_DIR / eye / "eye.yaml" for eye in NAVIGATION["eyes"]],
         # Only what places and traces a map: another grid's size or the signals leave the maps as they are.
         navigation=lambda w: {k: NAVIGATION[k] for k in ("reference_m", "height_m", "map")}
         | {"grids": {w.grid: NAVIGATION["grids"][w.grid]}},
         spectral=config["spectral"],
     log:
-        "results/logs/navigation/{scene}/{grid}/maps/{place}.log",
+        "results/logs/navigation/{scene}/{grid}/maps/{chunk}.log",
     threads: TRACING_THREADS
     resources:
         mem_mb=3000,
@@ -57,7 +69,7 @@ rule navigation_map:
 
 rule navigation_idf:
     input:
-        maps=lambda w: [f"results/navigation/{w.scene}/{w.grid}/maps/{p}.npz" for p in range(navigation_places(w.grid))],
+        maps=lambda w: [f"results/navigation/{w.scene}/{w.grid}/maps/{c}" for c in range(navigation_chunks(w.grid))],
         receptors=expand("results/eyes/{eye}/receptors.csv", eye=NAVIGATION["eyes"]),
     output:
         ridf="results/navigation/{scene}/{grid}/ridf.csv",
