@@ -121,16 +121,18 @@ def test_one_replicate_gives_no_standard_error():
     assert T95 == pytest.approx(stats.t.ppf(0.975, REPLICATES - 1), abs=1e-4)
 
 
-def lamp_scene(tmp_path, wavelengths):
-    """A bright ball 0.4° in radius, 1 m away along +x, on black: each receptor below sees it in its cone's
-    tail, one sample in fifty."""
+@pytest.fixture(scope="module")
+def lamp(tmp_path_factory, wavelengths):
+    """A bright ball 0.4° in radius, 1 m away along +x, on black, and its Embree scene: each receptor below
+    sees it in its cone's tail, one sample in fifty. Built once for the tests that share it."""
     radius = float(np.tan(np.radians(0.4)))
-    path = write_scene(tmp_path / "lamp.yaml", {
+    path = write_scene(tmp_path_factory.mktemp("lamp") / "lamp.yaml", {
         "name": "lamp", "light": {"sky": "none", "sun": False}, "eye": {"position_m": [0, 0, 0]},
         "materials": {"lamp": {"reflectance": 0.0, "emission": 1.0}},
         "objects": [{"primitive": {"sphere": {"radius_m": radius, "subdivisions": 4}}, "material": "lamp",
                      "translate_m": [1.0, 0, 0]}]})
-    return load_scene(path, wavelengths)
+    scene = load_scene(path, wavelengths)
+    return scene, raycasting_scene(scene)
 
 
 def off_the_lamp(n, offset_deg, rng):
@@ -139,12 +141,12 @@ def off_the_lamp(n, offset_deg, rng):
     return np.column_stack([np.full(n, np.cos(t)), np.sin(t) * np.cos(phi), np.sin(t) * np.sin(phi)])
 
 
-def test_adaptive_sampling_is_unbiased_where_a_stopping_rule_is_not(tmp_path, wavelengths):
+def test_adaptive_sampling_is_unbiased_where_a_stopping_rule_is_not(lamp, wavelengths):
     """A rare bright patch: a pilot that misses it reads zero, precisely. Stein's two stages set its samples
     from the pilot and estimate from fresh ones, so their means agree with fixed sampling's within their
     errors; adding rounds until the error looks small, keeping them all, stops early on the receptors that
     missed it and reads low."""
-    scene = lamp_scene(tmp_path, wavelengths)
+    scene, rs = lamp
     n, seeds, rounds = 200, 6, 32
     axes = off_the_lamp(n, 1.65, np.random.default_rng(7))
     origins, drho, ids = np.zeros((n, 3)), np.full(n, 2.6), np.arange(n)
@@ -154,7 +156,7 @@ def test_adaptive_sampling_is_unbiased_where_a_stopping_rule_is_not(tmp_path, wa
     def replicates(settings):
         """Each receptor's replicate catches (n, K) of a flat receptor, and its samples."""
         errors = {}
-        trace_cones(scene, origins, axes, drho, ids, 0, n, settings, len(wavelengths), sensitivities=flat,
+        trace_cones(scene, origins, axes, drho, ids, 0, n, settings, len(wavelengths), rs=rs, sensitivities=flat,
                     errors=errors)
         return errors["catches"][..., 0], errors["samples"]
 
@@ -185,6 +187,33 @@ def test_adaptive_sampling_is_unbiased_where_a_stopping_rule_is_not(tmp_path, wa
     assert z(stopped) < -3.0
 
 
+def test_pooling_the_pilots_of_a_neighbourhood_meets_the_target_where_a_cone_s_own_pilot_misses(
+        lamp, wavelengths, monkeypatch):
+    """A ring of cones sees a bright ball in their tails, one sample in fifty: a pilot of 64 misses it in a
+    quarter of them, which, judged by their own pilots alone, keep the fewest samples and err by most of
+    their catch. Pooled with its neighbours' pilots (each seeing alike), every cone gets its samples. The
+    cones being alike, the spread of their estimates over the ring is each one's error."""
+    import beeoptics.light.precision
+
+    scene, rs = lamp
+    n = 48
+    axes = off_the_lamp(n, 1.65, np.random.default_rng(9))
+    flat = (wavelengths, np.ones((len(wavelengths), 1)))
+    settings = TraceSettings(256, 1, 51, 1 << 17, precision=Precision(0.2, 0.0, 64, 4096))
+
+    def ring_error():
+        """The relative standard deviation of the ring's estimates."""
+        errors = {}
+        trace_cones(scene, np.zeros((n, 3)), axes, np.full(n, 2.6), np.arange(n), 0, n, settings, len(wavelengths),
+                    rs=rs, sensitivities=flat, errors=errors)
+        q = errors["catches"][..., 0].mean(axis=1)
+        return q.std(ddof=1) / q.mean()
+
+    assert ring_error() < 1.3 * settings.precision.target
+    monkeypatch.setattr(beeoptics.light.precision, "NEIGHBOURHOOD", 1)  # each cone's own pilot alone
+    assert ring_error() > 2.0 * settings.precision.target
+
+
 def test_a_precision_asks_for_the_noise_of_the_receptor_set_and_refuses_a_pilot_above_the_maximum():
     from beeoptics.io.errors import InputError
     from beeoptics.io.validation import config_default
@@ -203,14 +232,13 @@ def test_a_precision_asks_for_the_noise_of_the_receptor_set_and_refuses_a_pilot_
                                   receptor_set=fly)
 
 
-def test_adaptive_sampling_gives_the_same_bytes_for_any_batching_threads_or_share(tmp_path, wavelengths):
+def test_adaptive_sampling_gives_the_same_bytes_for_any_batching_threads_or_share(lamp, wavelengths):
     """A receptor's pilot, and so its samples, depend on nothing but the seed and its own id (not on the fixed
     samples_per_receptor a precision stands in for, whose replicates are fewer below eight samples)."""
-    scene = lamp_scene(tmp_path, wavelengths)
+    scene, rs = lamp
     n = 20
     axes = off_the_lamp(n, 1.65, np.random.default_rng(8))
     precision = Precision(0.3, 0.0, 64, 1024)
-    rs = raycasting_scene(scene)
     runs = []
     for samples, batch_rays, threads, shares in [(256, 1 << 17, 1, [(0, n)]), (256, 3000, 2, [(0, 7), (7, n)]),
                                                   (4, 1 << 17, 2, [(0, n)])]:

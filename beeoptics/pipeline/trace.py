@@ -17,7 +17,7 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background, config_default
 from beeoptics.light.batching import trace_bundles
-from beeoptics.light.precision import adaptive_samples, replicate_samples
+from beeoptics.light.precision import adaptive_samples, neighbourhoods, replicate_samples
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
@@ -120,8 +120,11 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
 
     Each cone is traced as independent replicates (:func:`beeoptics.light.precision.replicate_samples`),
     its radiance their mean (:mod:`beeoptics.light.precision`): of ``settings.samples`` samples in all,
-    or, with ``settings.precision``, as many as its pilot says it needs for the precision asked of its
-    catches (of ``sensitivities``' classes, or without them of the radiance summed over the grid).
+    or, with ``settings.precision``, as many as the pilots of its neighbourhood (it and the cones nearest
+    it in axis and origin among all the ``origins``, :func:`beeoptics.light.precision.neighbourhoods`, so
+    that a share ``first``..``last`` takes the samples the whole would) say it needs for the precision
+    asked of its catches (of ``sensitivities``' classes, or without them of the radiance summed over the
+    grid).
 
     Parameters
     ----------
@@ -178,12 +181,12 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
 
     stokes = 1 if dorsal is None else 3
     columns = stokes * n_wavelengths + (target is not None)
-    omega = acceptance_solid_angle(np.broadcast_to(delta_rho_deg, (len(origins),))[first:last])
+    omega = acceptance_solid_angle(np.broadcast_to(delta_rho_deg, (len(origins),)))
 
-    def catches(spectra):
-        """Catches over the acceptance of radiance spectra (..., n_wavelengths): the curves', or without them
-        a flat receptor's (the radiance summed over the grid)."""
-        irradiance = spectra * omega.reshape(-1, *[1] * (spectra.ndim - 1))
+    def catches(spectra, cones=slice(first, last)):
+        """Catches over the acceptance of radiance spectra (..., n_wavelengths) of ``cones``: the curves', or
+        without them a flat receptor's (the radiance summed over the grid)."""
+        irradiance = spectra * omega[cones].reshape(-1, *[1] * (spectra.ndim - 1))
         if sensitivities is None:
             return irradiance.sum(axis=-1, keepdims=True)
         return quantum_catches(irradiance, sensitivities[1], sensitivities[0])
@@ -194,15 +197,24 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         samples = np.full(last - first, m)
         replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k), progress)
     else:
-        # Stein's two stages (beeoptics.light.precision): a pilot fixes each cone's samples, fresh
-        # replicates of them make its estimate. Of a Stokes vector, the intensity's catches decide.
+        # Stein's two stages (beeoptics.light.precision): the pilots of each cone's neighbourhood fix its
+        # samples, fresh replicates of them make its estimate. Of a Stokes vector, the intensity's catches decide.
         k, m = replicate_samples(precision.min_samples)
+        # The pilot of every cone in the share's neighbourhoods, whichever share holds it: a cone's pilot
+        # draws the random numbers of its own stream, so a share sees the pilots any other share would.
+        near = neighbourhoods(origins, axes)[first:last]
+        cones, rows = np.unique(near, return_inverse=True)
+
+        def trace_pilot(blocks):
+            return trace(blocks._replace(bundle=cones[blocks.bundle]))
+
         # The pilot's own K replicates (fewer than eight where min_samples is below eight), and no progress
         # of its own: the bar follows the estimate's trace.
-        pilot = trace_bundles(trace, first, last, settings, columns, np.full(last - first, m), range(k))
+        pilot = trace_bundles(trace_pilot, 0, len(cones), settings, columns, np.full(len(cones), m), range(k))
         white = catches(np.broadcast_to(white_radiance(scene.sky, scene.sun, n_wavelengths),
-                                        (last - first, n_wavelengths)))
-        samples = adaptive_samples(catches(pilot[..., :n_wavelengths]), white, precision)
+                                        (len(cones), n_wavelengths)), cones)
+        samples = adaptive_samples(catches(pilot[..., :n_wavelengths], cones), white, precision,
+                                   rows.reshape(near.shape))
         replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k, 2 * k), progress)
         log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
                  k * samples.min(initial=0), k * samples.max(initial=0), k * samples.mean() if len(samples) else 0,
