@@ -15,6 +15,7 @@ looks; an eye described by an ``eye.yaml`` is built once and kept in the cache
 """
 
 import hashlib
+import inspect
 import logging
 import os
 import shutil
@@ -25,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from beeoptics import __version__
+from beeoptics.eye.receptors import read_receptor_file
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import (CONFIG_SCHEMA, check_background, config_default, load_yaml, validate,
@@ -116,19 +118,15 @@ def load_eye(path, *, receptor_set=None, **options):
     InputError
         Naming the file and the field of bad input.
     """
-    from beeoptics import cli
-
     path = Path(path)
     eye_file = path if path.suffix.lower() in (".yaml", ".yml") else None
     if eye_file is not None:
         table = read_receptors(_built(eye_file) / "receptors.csv")
     else:
-        args = cli.parser().parse_args(["convert", str(path), "receptors.csv"])
-        unknown = set(options) - set(vars(args))
+        unknown = set(options) - set(list(inspect.signature(read_receptor_file).parameters)[1:])
         if unknown:
             raise InputError("load_eye", sorted(unknown)[0], "no such option of convert")
-        vars(args).update(options)
-        table = cli.read_receptor_file(path, args)
+        table = read_receptor_file(path, **options)
     if receptor_set is not None:
         rset = load_receptor_set(receptor_set, source="load_eye", field="receptor_set")
     else:

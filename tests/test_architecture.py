@@ -27,7 +27,7 @@ ALLOWED = {
     "pipeline": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
     "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
     # The Python API: the front door over the stages, reading other formats of receptors as the tool does.
-    "api": {"cli", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    "api": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
 }
 
 
