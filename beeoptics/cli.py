@@ -203,7 +203,6 @@ def render(args):
     to is written beside the responses (receptors.csv).
     """
     from beeoptics.eye.description import check_receptors_of, load_eye
-    from beeoptics.light.batching import TraceSettings
     from beeoptics.pipeline import images
     from beeoptics.pipeline.trace import gather_responses, trace_part
     from beeoptics.vision.receptorset import DEFAULT_SET, load_receptor_set, receptor_set_of
@@ -238,7 +237,7 @@ def render(args):
                 bar.update(done - bar.n)
             curves = config["colour"]["sensitivities"]
             trace_part(receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
-                       settings=TraceSettings.from_config(config["trace"], args.threads, receptor_set=receptor_set),
+                       trace=config["trace"], threads=args.threads,
                        receptor_set=receptor_set,
                        progress=progress, receptor_curves=curves)
         gather_responses(receptors, args.scene, [tmp / "radiance.npz"],
@@ -275,16 +274,17 @@ def daylight(args):
     on an unshaded horizontal surface, W m⁻² nm⁻¹, for pavo's or
     micaToolbox's illuminant.
     """
+    from beeoptics.api import load_scene
     from beeoptics.light.daylight import clear_sky, write_daylight
     from beeoptics.light.materials import ground_albedo
-    from beeoptics.light.scene import load_scene
     from beeoptics.light.sky import horizontal_irradiance
     from beeoptics.spectra import grid
 
-    wl = grid(**settings(args)["spectral"])
+    spectral = settings(args)["spectral"]
+    wl = grid(**spectral)
     if args.scene:
         _meadow_made(args.scene)
-        scene = load_scene(args.scene, wl)
+        scene = load_scene(args.scene, **spectral).scene
         direct = horizontal_irradiance(None, scene.sun, len(wl))
         diffuse = horizontal_irradiance(scene.sky, None, len(wl))
     else:
@@ -385,9 +385,8 @@ def info(args):
     """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye, .ply, .gltf or .glb)."""
     import igl
 
+    from beeoptics.api import load_scene
     from beeoptics.eye.description import load_eye, load_eye_mesh
-    from beeoptics.light.scene import load_scene
-    from beeoptics.spectra import grid
 
     path = Path(args.path)
     if path.suffix.lower() not in (".yaml", ".yml"):
@@ -439,7 +438,7 @@ def info(args):
                     print(f"{section} {key.replace('_', ' ')}: {_readable(value) or 'compared'}")
         return
     _meadow_made(path)
-    scene = load_scene(path, grid(**config_default("spectral")))
+    scene = load_scene(path).scene
     data = validate(data, "scene", path)
     light, head, cam = data["light"], data["eye"], scene.camera
     print(f"scene: {scene.name}")
