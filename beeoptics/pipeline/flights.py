@@ -289,8 +289,8 @@ def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *,
                   receptor_set.classes, [p.time for p in poses], title,
                   f"map3 (Collins §4.4): {display_words(receptor_set)}, each catch over a white Lambertian "
                   "surface's under the scene's light, so white shows white; traced with the flight's views settings "
-                  f"({trace['samples_per_receptor']} samples a receptor, depth {trace['depth']}). Every receptor of both eyes at "
-                  "its axis in the head's frame; hover for its catches at the frame shown.")
+                  f"({trace['samples_per_receptor']} samples a receptor, depth {trace['depth']}). Every receptor of "
+                  "both eyes at its axis in the head's frame; hover for its catches at the frame shown.")
     return {"frames": len(poses), "rays": counts["cast"] + counts["shadow"], "trace_s": counts["seconds"]}
 
 

@@ -46,8 +46,9 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, trace, threads, 
     progress : callable, optional
         Called with (receptors done, receptors in the share).
     """
-    view = look(load_eye(receptors_csv, receptor_set=receptor_set), load_scene(scene_file, **spectral, **(light or {})),
-                trace=trace, threads=threads, sensitivities=receptor_curves, part=part, parts=parts, progress=progress)
+    scene = load_scene(scene_file, **spectral, **(light or {}))  # a scene without light refused before the eye is read
+    view = look(load_eye(receptors_csv, receptor_set=receptor_set), scene, trace=trace, threads=threads,
+                sensitivities=receptor_curves, part=part, parts=parts, progress=progress)
     with atomic_path(outputs["radiance"]) as tmp:
         # Uncompressed: zlib shrinks these spectra by 6 % and took a sixth of the stage's time.
         np.savez(tmp, id=view.eye.table.id, radiance=view.radiance, radiance_se=view.radiance_se,
