@@ -508,12 +508,23 @@ def _config(scene, samples, depth, seed, precision, background, sensitivities, t
     return config
 
 
-def _placed(scene, pose, source):
+def _placed(scene, pose):
     """The scene with the head at ``pose`` (a mapping: ``position_m`` and either ``rotation``, 3 × 3, its
     columns the head's axes in the world, or ``heading_deg``, ``pitch_deg``, ``roll_deg``); a part of it not
     given keeps the scene's own."""
     placed = scene.scene
+    for field, shape in (("position_m", (3,)), ("rotation", (3, 3))):
+        if pose.get(field) is None:
+            continue
+        try:
+            value = np.asarray(pose[field], float)
+        except (TypeError, ValueError):
+            value = np.zeros(0)
+        if value.shape != shape or not np.isfinite(value).all():
+            raise InputError("pose", field, f"expected {' × '.join(map(str, shape))} finite numbers")
     if "rotation" in pose:
+        if pose.get("position_m") is None:
+            raise InputError("pose", "position_m", "a pose with a rotation needs its position")
         return placed._replace(eye_position=np.asarray(pose["position_m"], float),
                                eye_rotation=np.asarray(pose["rotation"], float))
     if not any(pose.get(k) is not None for k in ("position_m", "heading_deg", "pitch_deg", "roll_deg")):
@@ -581,7 +592,7 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
     """
     config = _config(scene, samples, depth, seed, precision, background, sensitivities, trace, "look")
     placed = _placed(scene, {"position_m": position_m, "heading_deg": heading_deg, "pitch_deg": pitch_deg,
-                             "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})}, "look")
+                             "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})})
     rset, wl, table = eye.receptor_set, scene.wavelengths_nm, eye.table
     curve = config["colour"]["sensitivities"]
     settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=rset)
@@ -643,7 +654,7 @@ def looks(eye, scene, poses, *, samples=None, depth=None, seed=None, precision=N
     n, width = len(table.id), int(table.id.max()) + 1
     total = len(poses) if hasattr(poses, "__len__") else None
     poses, done = iter(poses), 0
-    while chunk := [_placed(scene, p, "looks") for _, p in zip(range(FRAMES_AT_ONCE), poses)]:
+    while chunk := [_placed(scene, p) for _, p in zip(range(FRAMES_AT_ONCE), poses)]:
         origins, axes = map(np.vstack, zip(*(scenes.receptors_in_world(p, table.position, table.axis)
                                              for p in chunk)))
         # Each frame draws random numbers of its own: a receptor's id offset by the frame's.
@@ -692,8 +703,7 @@ def human_view(scene, *, camera=None, position_m=None, heading_deg=None, pitch_d
                                                            if v is not None}}},
                              CONFIG_SCHEMA, source="human_view", folders=False)
     placed = _placed(scene, {"position_m": position_m, "heading_deg": heading_deg, "pitch_deg": pitch_deg,
-                             "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})},
-                     "human_view")
+                             "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})})
     if camera is None:
         camera = placed.camera if placed is scene.scene else scenes.bee_camera(placed.eye_position,
                                                                                 placed.eye_rotation, *size_px)

@@ -134,6 +134,8 @@ def test_a_view_gives_its_images_as_arrays_and_its_figures(eye, view):
     (lambda e, s: beeoptics.look(e, s, **FAST, background="granite"), "background"),
     (lambda e, s: beeoptics.load_eye(EYE.with_name("none.yaml")), ""),
     (lambda e, s: beeoptics.load_eye(DATA / "none.eye", unit="mm"), "unit"),
+    (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.1]}], **FAST)), "position_m"),
+    (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.0, 0.1], "rotation": np.eye(2)}])), "rotation"),
 ])
 def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
     with pytest.raises(InputError) as refused:
