@@ -13,15 +13,15 @@ before it: :mod:`beeoptics.eye` (eyes and their receptors) →
 lies under all of them and :mod:`beeoptics.pipeline` (the workflow's stages)
 over all of them; :mod:`beeoptics.spectra`, :mod:`beeoptics.headframe`,
 :mod:`beeoptics.raycasting` and :mod:`beeoptics.replicates` are shared by every stage. From
-Python, :func:`load_eye`, :func:`load_scene` and :func:`look` (:mod:`beeoptics.api`) call the
-stages as the workflow does. See ``docs/architecture.md``.
+Python, :func:`load_eye`, :func:`load_scene`, :func:`look` and :func:`looks` (:mod:`beeoptics.api`)
+are the one way to the tracer, for the workflow's stages and the command line too. See ``docs/architecture.md``.
 """
 
 __version__ = "0.1.0"
 
 #: The Python API (:mod:`beeoptics.api`), imported on first use so that ``import beeoptics`` (and the
 #: command line's ``--help``) stays quick.
-__all__ = ["load_eye", "load_scene", "look", "Eye", "Scene", "View"]
+__all__ = ["load_eye", "load_scene", "look", "looks", "human_view", "human_srgb", "Eye", "Scene", "View"]
 
 
 def __getattr__(name):

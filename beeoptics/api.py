@@ -15,6 +15,7 @@ looks; an eye described by an ``eye.yaml`` is built once and kept in the cache
 """
 
 import hashlib
+import inspect
 import logging
 import os
 import shutil
@@ -25,18 +26,29 @@ import numpy as np
 import pandas as pd
 
 from beeoptics import __version__
+from beeoptics.eye.receptors import read_receptor_file
 from beeoptics.io.errors import InputError
-from beeoptics.io.receptortable import read_receptors
+from beeoptics.io.receptortable import read_receptors, rows_of
 from beeoptics.io.validation import (CONFIG_SCHEMA, check_background, config_default, load_yaml, validate,
                                      validate_config)
 from beeoptics.light import scene as scenes
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scenecache import cache_root, code_digest, file_digest
+from beeoptics.light.sky import white_radiance
+from beeoptics.images.display import bee_colours
+from beeoptics.images.fieldmaps import field_images
+from beeoptics.images.retina import retinal_images
+from beeoptics.pipeline.outputs import channel, retinal_images as retinal_outputs
+from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
-from beeoptics.vision.receptorset import DEFAULT_SET, curves, load_receptor_set, ommatidium_names, ommatidium_types
-from beeoptics.vision.receptorset import receptor_set_of
+from beeoptics.tracing import human_srgb, render_human, respond, trace_cones, trace_receptors
+from beeoptics.vision.catches import quantum_catches
+from beeoptics.vision.receptorset import (DEFAULT_CURVES, DEFAULT_SET, ReceptorSet, curves, lacking, load_receptor_set,
+                                          ommatidium_names, ommatidium_types, receptor_set_of)
 
 log = logging.getLogger("beeoptics")
+
+__all__ = ["Eye", "Scene", "View", "load_eye", "load_scene", "look", "looks", "human_view", "human_srgb"]
 
 #: The package's code that builds an eye: its files are part of a built eye's cache key, so that a change to
 #: any builds the eye afresh.
@@ -98,8 +110,8 @@ def load_eye(path, *, receptor_set=None, **options):
     path : str or Path
         An ``eye.yaml``, a receptor table (``.csv``), a CompoundRay ``.eye``,
         a ``.ply`` or an OCES glTF (``.gltf``, ``.glb``).
-    receptor_set : str, optional
-        A shipped receptor set's name or a set file; by default the eye's own
+    receptor_set : str or ReceptorSet, optional
+        A shipped receptor set's name, a set file or a loaded set; by default the eye's own
         (its ``eye.yaml``'s ``receptors``), or the honey bee's for receptors
         without one.
     **options
@@ -116,20 +128,18 @@ def load_eye(path, *, receptor_set=None, **options):
     InputError
         Naming the file and the field of bad input.
     """
-    from beeoptics import cli
-
     path = Path(path)
     eye_file = path if path.suffix.lower() in (".yaml", ".yml") else None
     if eye_file is not None:
         table = read_receptors(_built(eye_file) / "receptors.csv")
     else:
-        args = cli.parser().parse_args(["convert", str(path), "receptors.csv"])
-        unknown = set(options) - set(vars(args))
+        unknown = set(options) - set(list(inspect.signature(read_receptor_file).parameters)[1:])
         if unknown:
             raise InputError("load_eye", sorted(unknown)[0], "no such option of convert")
-        vars(args).update(options)
-        table = cli.read_receptor_file(path, args)
-    if receptor_set is not None:
+        table = read_receptor_file(path, **options)
+    if isinstance(receptor_set, ReceptorSet):
+        rset = receptor_set
+    elif receptor_set is not None:
         rset = load_receptor_set(receptor_set, source="load_eye", field="receptor_set")
     else:
         rset = receptor_set_of(eye_file) if eye_file is not None else load_receptor_set(DEFAULT_SET)
@@ -230,7 +240,7 @@ class Scene:
                 f"{', '.join(self.scene.material_names)}; {self.wavelengths_nm[0]:g}–{self.wavelengths_nm[-1]:g} nm)")
 
 
-def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, **light):
+def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, geometry=True, **light):
     """Load a scene once (from the scene cache where it is there), for any number of looks.
 
     A scene of a generated meadow whose mesh is not there yet (a fresh
@@ -242,6 +252,8 @@ def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, **light):
         A ``scene.yaml``.
     start_nm, end_nm, step_nm : float, optional
         The spectral grid, nm; the configuration's (``spectral``) by default.
+    geometry : bool
+        Read its objects; without them (for what needs only its light and materials) it has none.
     **light
         Overrides of its ``light`` section (:meth:`Scene.with_light`).
 
@@ -256,51 +268,282 @@ def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, **light):
                                CONFIG_SCHEMA, source="load_scene", folders=False)["spectral"]
     wl = grid(**spectral)
     missing_meadow(path, starting=lambda mesh: log.warning("generating %s from the meadow file beside it, once", mesh))
-    return Scene(path, wl, scenes.load_scene(path, wl, light or None), light)
+    return Scene(path, wl, scenes.load_scene(path, wl, light or None, geometry=geometry), light)
 
 
 class View:
-    """What an eye sees of a scene from one pose: its receptors' catches, radiance and colour.
+    """What an eye sees of a scene from one pose: its receptors' radiance, catches and colour.
+
+    Made by :func:`look` and :func:`looks`, or from radiance traced before (the workflow's gathered
+    shares). Its tables are computed on first use.
+
+    Parameters
+    ----------
+    eye : Eye
+        The receptors looked with.
+    scene : Scene
+    radiance : ndarray (receptors, wavelengths)
+        Each receptor's mean spectral radiance over its acceptance, W m⁻² sr⁻¹ nm⁻¹.
+    placed : beeoptics.light.scene.Scene, optional
+        The scene with the head at the view's pose (``scene.scene`` by default).
+    replicate_catches : ndarray (receptors, replicates, classes), optional
+        The trace's independent replicate estimates of each catch: with them, every catch and colour
+        coordinate has its standard error.
+    samples : ndarray (receptors,), optional
+        The samples of each receptor's estimate.
+    radiance_se : ndarray, optional
+        The radiance's standard error, as ``radiance``.
+    background : str
+        The von Kries adapting background: ``"scene"``, or a material of the scene.
+    sensitivities : str
+        The receptor curves: ``"species"``, ``"template"`` or a CSV in pavo's layout.
 
     Attributes
     ----------
-    catches : pandas.DataFrame
-        A row per receptor: ``id``, ``side``, ``azimuth_deg`` and ``elevation_deg``
-        (its optical axis in the world: azimuth from +x towards +y, elevation above
-        the horizontal, degrees), the quantum catch of each receptor class over the
-        acceptance solid angle (photons s⁻¹ m⁻²-equivalent, as ``responses.csv``)
-        and each one's standard error (``se_<class>``, over the trace's replicates).
     radiance : ndarray (receptors, wavelengths)
-        Each receptor's mean spectral radiance over its acceptance, W m⁻² sr⁻¹ nm⁻¹,
-        on the grid :attr:`wavelengths_nm`.
     wavelengths_nm : ndarray (wavelengths,)
-    colour : pandas.DataFrame
-        ``id``, ``side`` and the colour-space coordinates against the chosen
-        background (colour hexagon, colour-opponent coding, receptor-noise
-        limited distance), each with its ``se_*``.
+    stokes : ndarray (receptors, 3, wavelengths) or None
+        With ``polarised``, each receptor's spectral Stokes vector (I, Q, U), W m⁻² sr⁻¹ nm⁻¹, in the
+        frame of the head's dorsal direction (:func:`beeoptics.light.integrator.trace_paths`).
+    cover : ndarray (receptors,) or None
+        With a ``target``, the share of each receptor's acceptance whose samples met it first.
+    counts : dict
+        The rays traced (``cast``, ``shadow``) and the tracing's wall and CPU seconds (``seconds``,
+        ``cpu_seconds``): of the call that traced it (:func:`looks` traces several views in one).
     """
 
-    def __init__(self, columns, radiance, wavelengths_nm, directions, classes):
-        self._columns, self.radiance, self.wavelengths_nm = columns, radiance, wavelengths_nm
-        catch = [c for k in classes for c in (k, f"se_{k}") if c in columns]
-        self.catches = pd.DataFrame({"id": columns["id"], "side": columns["side"], **directions,
-                                     **{c: columns[c] for c in catch}})
-        described = {"id", "side", "ommatidium", "acceptance_sr", "brightness", "se_brightness", "samples", *catch}
-        self.colour = pd.DataFrame({"id": columns["id"], "side": columns["side"],
-                                    **{c: v for c, v in columns.items() if c not in described}})
+    def __init__(self, eye, scene, radiance, *, placed=None, replicate_catches=None, samples=None, radiance_se=None,
+                 background=config_default("colour.background"), sensitivities=DEFAULT_CURVES, stokes=None,
+                 cover=None, counts=None, relative=None):
+        self.eye, self.scene, self.radiance, self.wavelengths_nm = eye, scene, radiance, scene.wavelengths_nm
+        self.placed = scene.scene if placed is None else placed
+        self.replicate_catches, self.samples, self.radiance_se = replicate_catches, samples, radiance_se
+        self.background, self.sensitivities = background, sensitivities
+        self.stokes, self.cover, self.counts = stokes, cover, counts or {}
+        self._relative, self._responses = relative, None
+
+    def _respond(self):
+        if self._responses is None:
+            columns, arrays = respond(self.eye.table, self.radiance, self.placed, self.wavelengths_nm, self.scene.path,
+                                      receptor_set=self.eye.receptor_set, background=self.background,
+                                      receptor_curves=self.sensitivities, replicate_catches=self.replicate_catches)
+            if self.samples is not None:
+                columns["samples"] = self.samples
+            self._responses = columns, arrays
+        return self._responses
+
+    @property
+    def columns(self):
+        """The columns of ``responses.csv`` exactly, in its order (a dict of arrays; see the README)."""
+        return self._respond()[0]
+
+    @property
+    def spectra(self):
+        """The arrays of ``irradiance.npz``: ``radiance``, ``irradiance`` (float32), ``background_q`` (the
+        adapting catches), ``white_radiance`` (a white Lambertian surface under the scene's light) and ``white_q``
+        (each receptor's catch of it) (:func:`beeoptics.tracing.respond`)."""
+        return self._respond()[1]
 
     def table(self):
         """The columns of ``responses.csv`` exactly, in its order (pandas DataFrame)."""
-        return pd.DataFrame(self._columns)
+        return pd.DataFrame(self.columns)
+
+    @property
+    def directions(self):
+        """Each receptor's optical axis in the world (pandas DataFrame): ``azimuth_deg`` from +x towards +y and
+        ``elevation_deg`` above the horizontal, degrees."""
+        _, axes = scenes.receptors_in_world(self.placed, self.eye.table.position, self.eye.table.axis)
+        return pd.DataFrame({"azimuth_deg": np.degrees(np.arctan2(axes[:, 1], axes[:, 0])),
+                             "elevation_deg": np.degrees(np.arcsin(np.clip(axes[:, 2], -1.0, 1.0)))})
+
+    @property
+    def distance_m(self):
+        """Each receptor's distance along its optical axis to the first surface it meets, m; infinite where it
+        meets the sky: (receptors,)."""
+        origins, axes = scenes.receptors_in_world(self.placed, self.eye.table.position, self.eye.table.axis)
+        hits = first_hits(self.scene.raycasting, np.column_stack([origins, axes]).astype(np.float32))
+        return hits["t_hit"].astype(np.float64)
+
+    @property
+    def catches(self):
+        """A row per receptor: ``id``, ``side``, ``azimuth_deg``, ``elevation_deg`` (:attr:`directions`), the
+        quantum catch of each receptor class (photons m⁻² s⁻¹, as ``responses.csv``) and each one's standard
+        error (``se_<class>``, over the trace's replicates) (pandas DataFrame)."""
+        columns = self.columns
+        catch = [c for k in self.eye.receptor_set.classes for c in (k, f"se_{k}") if c in columns]
+        return pd.DataFrame({"id": columns["id"], "side": columns["side"], **self.directions,
+                             **{c: columns[c] for c in catch}})
+
+    @property
+    def colour(self):
+        """``id``, ``side`` and the colour-space coordinates against the background (colour hexagon,
+        colour-opponent coding, receptor-noise limited distance), each with its ``se_*`` (pandas DataFrame)."""
+        columns = self.columns
+        described = {"id", "side", "ommatidium", "acceptance_sr", "brightness", "se_brightness", "samples",
+                     *(c for k in self.eye.receptor_set.classes for c in (k, f"se_{k}"))}
+        return pd.DataFrame({"id": columns["id"], "side": columns["side"],
+                             **{c: v for c, v in columns.items() if c not in described}})
+
+    @property
+    def relative(self):
+        """Each class's catch of each receptor's radiance over a white Lambertian surface's under the scene's
+        light (map3's unit, Collins §4.4), NaN for a class the receptor's ommatidium lacks: (receptors, classes)."""
+        if self._relative is None:
+            self._relative = _relative(self.eye, self.placed, self.radiance, self.wavelengths_nm,
+                                       self.sensitivities)[0]
+        return self._relative
+
+    def _colours(self):
+        """Each receptor's catches over white's, map3 colour and map2 colour (:func:`bee_colours`)."""
+        catches = np.column_stack([self.columns[r] for r in self.eye.receptor_set.classes])
+        return bee_colours(catches, self.spectra["white_q"], self.wavelengths_nm, self.radiance,
+                           self.eye.receptor_set.display)
+
+    def images(self, *, width_px=None, field_width_px=None):
+        """The view's images as arrays, as the workflow draws them (``beeoptics/images/``).
+
+        Parameters
+        ----------
+        width_px : int, optional
+            Each eye's panel in the retinal images, pixels (``images.width_px``).
+        field_width_px : int, optional
+            The visual-field maps' width, pixels (``images.visual_field_width_px``); their height is half.
+
+        Returns
+        -------
+        dict of str to ndarray
+            ``field_map3`` and ``field_map2``, the visual field of both eyes, equirectangular (h, w, 3),
+            azimuth from +180° (the bee's left) to −180° left to right, elevation +90° to −90° top to
+            bottom; ``field_eyes`` (h, w), the bits of the eyes that see each direction (1 right,
+            2 left); and where the eye has its ``eye.yaml`` (placing it on the head), its retinal images,
+            left eye on the left, (h, 2w, 3): ``voronoi_map3``, ``voronoi_map2``, ``density_map3``,
+            ``density_map3_normalised``, and each class's catch over white's, (h, 2w), as ``channel_uv``, …
+            Display values in [0, 1] (map3: each class's catch over white's, sRGB-encoded; map2: the
+            light's human colour), NaN where no receptor sees.
+        """
+        field, maps = self._field(field_width_px)
+        out = {**{f"field_{k}": v for k, v in maps.items()}, "field_eyes": field.eyes}
+        if self.eye.eye_file is not None:
+            retina = self._retina(width_px)
+            out.update({**retina.images, **{channel(k): v for k, v in retina.channels.items()}})
+        return out
+
+    def _field(self, width_px):
+        """The visual field's geometry (:func:`beeoptics.eye.fieldofview.visual_field`) and its maps."""
+        from beeoptics.eye.fieldofview import visual_field
+
+        t = self.eye.table
+        field = visual_field(t.axis, t.side, t.delta_rho_deg, t.delta_phi_deg,
+                             width_px or config_default("images.visual_field_width_px"))
+        _, colours, srgb = self._colours()
+        return field, field_images(field.receptor, colours, srgb)
+
+    def _retina(self, width_px):
+        """The retinal images (:func:`beeoptics.images.retina.retinal_images`)."""
+        from beeoptics.eye.description import load_eye as describe_eye
+
+        relative, colours, srgb = self._colours()
+        return retinal_images(describe_eye(self.eye.eye_file), self.eye.table, relative, colours, srgb,
+                              self.eye.receptor_set.classes, width_px or config_default("images.width_px"))
+
+    def plot(self, kind="field", *, title="", width_px=None, field_width_px=None):
+        """A figure of the view, for a notebook: the visual field's maps, or one retinal image.
+
+        Parameters
+        ----------
+        kind : str
+            ``"field"``: map3 and map2 over both eyes' visual field, the binocular overlap outlined;
+            or a retinal image of :meth:`images` (``"voronoi_map3"``, ``"channel_uv"``, …).
+        title : str
+        width_px, field_width_px : int, optional
+            As :meth:`images`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        from beeoptics.images import figures
+
+        if kind == "field":
+            field, maps = self._field(field_width_px)
+            panels = {"bee colours (map3, white = 1)": maps["map3"],
+                      "human colours on the bee's geometry (map2)": maps["map2"]}
+            return figures.visual_field_figure(panels, field.eyes, field.azimuth_deg, field.elevation_deg, None,
+                                               title, 5.2)[0]
+        kinds = [] if self.eye.eye_file is None else [k for k in retinal_outputs(self.eye.receptor_set) if k != "exr"]
+        if kind not in kinds:
+            raise InputError("plot", "kind", f"{kind!r} is none of {', '.join(['field', *kinds])}")
+        retina = self._retina(width_px)
+        image = {**retina.images, **{channel(k): v for k, v in retina.channels.items()}}[kind]
+        return figures.retina_figure(image, retina.extents, retina.anterior, retina.dorsal, title, "",
+                                     "catch ÷ white's catch" if image.ndim == 2 else None)[0]
 
 
-def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_deg=None, samples=None,
-         depth=None, seed=None, precision=None, background=None, sensitivities=None, threads=None):
+def _relative(eye, placed, radiance, wl, sensitivities):
+    """Catches of radiance (n, wavelengths) over a white surface's under ``placed``'s light, NaN where lacking."""
+    rset = eye.receptor_set
+    sens = curves(rset, wl, sensitivities)
+    white = quantum_catches(white_radiance(placed.sky, placed.sun, len(wl))[None], sens, wl)[0]
+    q = quantum_catches(radiance, sens, wl) / white
+    n = len(eye.table.id)
+    q = q.reshape(-1, n, q.shape[-1])
+    types = ommatidium_types(rset, n)
+    if types is not None:
+        q[:, lacking(rset, types)] = np.nan
+    return q
+
+
+def _config(scene, samples, depth, seed, precision, background, sensitivities, trace, source):
+    """The config's ``trace`` and ``colour`` sections these give, checked against its schema (whose keys an
+    error names: trace.samples_per_receptor, …)."""
+    given = {"trace": {**(trace or {}), **{k: v for k, v in (("samples_per_receptor", samples), ("depth", depth),
+                                                             ("seed", seed)) if v is not None}},
+             "colour": {k: v for k, v in (("background", background), ("sensitivities", sensitivities))
+                        if v is not None}}
+    if precision is not None:
+        given["trace"]["precision"] = {**given["trace"].get("precision", {}), "target": precision}
+    config = validate_config(given, CONFIG_SCHEMA, source=source, folders=False)
+    # Refused now rather than after the trace.
+    check_background(scene.path, config["colour"]["background"], source, "background")
+    return config
+
+
+def _placed(scene, pose):
+    """The scene with the head at ``pose`` (a mapping: ``position_m`` and either ``rotation``, 3 × 3, its
+    columns the head's axes in the world, or ``heading_deg``, ``pitch_deg``, ``roll_deg``); a part of it not
+    given keeps the scene's own."""
+    placed = scene.scene
+    for field, shape in (("position_m", (3,)), ("rotation", (3, 3))):
+        if pose.get(field) is None:
+            continue
+        try:
+            value = np.asarray(pose[field], float)
+        except (TypeError, ValueError):
+            value = np.zeros(0)
+        if value.shape != shape or not np.isfinite(value).all():
+            raise InputError("pose", field, f"expected {' × '.join(map(str, shape))} finite numbers")
+    if "rotation" in pose:
+        if pose.get("position_m") is None:
+            raise InputError("pose", "position_m", "a pose with a rotation needs its position")
+        return placed._replace(eye_position=np.asarray(pose["position_m"], float),
+                               eye_rotation=np.asarray(pose["rotation"], float))
+    if not any(pose.get(k) is not None for k in ("position_m", "heading_deg", "pitch_deg", "roll_deg")):
+        return placed
+    own = validate(load_yaml(scene.path), "scene", scene.path)["eye"]
+    return scenes.posed(placed, {"position_m": placed.eye_position if pose.get("position_m") is None else
+                                 pose["position_m"],
+                                 **{k: own[k] if pose.get(k) is None else pose[k]
+                                    for k in ("heading_deg", "pitch_deg", "roll_deg")}})
+
+
+def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_deg=None, rotation=None,
+         samples=None, depth=None, seed=None, precision=None, background=None, sensitivities=None, trace=None,
+         threads=None, part=0, parts=1, polarised=False, target=None, progress=None):
     """Place the eye at a pose in the scene and trace its receptors: the view.
 
     The defaults are the configuration's; the numbers are those of
     ``beeoptics render`` for the same eye, scene and settings, for any
-    ``threads``.
+    ``threads`` and any ``parts``.
 
     Parameters
     ----------
@@ -311,6 +554,8 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
     heading_deg, pitch_deg, roll_deg : float, optional
         The head's heading (from +x towards +y), pitch (nose up) and roll,
         degrees; the scene's own by default.
+    rotation : array_like (3, 3), optional
+        Instead of the angles, the head's rotation: its columns the head's axes in the world.
     samples : int, optional
         Rays per receptor (``trace.samples_per_receptor``).
     depth : int, optional
@@ -325,44 +570,142 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
         The von Kries adapting background: ``"scene"``, or a material of the scene.
     sensitivities : str, optional
         The receptor curves: ``"species"``, ``"template"`` or a CSV in pavo's layout.
+    trace : dict, optional
+        A config's whole ``trace`` section (``beeoptics/io/schemas/config.schema.yaml``), which the
+        keywords above override.
     threads : int, optional
         Threads tracing; all cores by default.
+    part, parts : int
+        Trace only share ``part`` of ``parts`` contiguous shares of the receptors (the view is of those):
+        each receptor is traced the same in any share.
+    polarised : bool
+        Trace Stokes vectors (:attr:`View.stokes`); the radiance is their intensity.
+    target : (array_like (3,), float), optional
+        A sphere (centre, m; radius, m): each receptor's share of its acceptance that met it first
+        (:attr:`View.cover`).
+    progress : callable, optional
+        Called with (receptors done, receptors to trace).
 
     Returns
     -------
     View
     """
-    from beeoptics.pipeline.trace import respond, trace_receptors
-
-    # Checked against the config's schema, whose keys the error names (trace.samples_per_receptor, …).
-    given = {"trace": {k: v for k, v in (("samples_per_receptor", samples), ("depth", depth), ("seed", seed))
-                       if v is not None},
-             "colour": {k: v for k, v in (("background", background), ("sensitivities", sensitivities))
-                        if v is not None}}
-    if precision is not None:
-        given["trace"]["precision"] = {"target": precision}
-    config = validate_config(given, CONFIG_SCHEMA, source="look", folders=False)
-    # Refused now rather than after the trace.
-    check_background(scene.path, config["colour"]["background"], "look", "background")
-    placed = scene.scene
-    if any(v is not None for v in (position_m, heading_deg, pitch_deg, roll_deg)):
-        pose = {"position_m": placed.eye_position if position_m is None else position_m}
-        # A part of the pose not given keeps the scene's: heading, pitch and roll from its file.
-        own = validate(load_yaml(scene.path), "scene", scene.path)["eye"]
-        pose.update({k: own[k] if v is None else v for k, v in
-                     (("heading_deg", heading_deg), ("pitch_deg", pitch_deg), ("roll_deg", roll_deg))})
-        placed = scenes.posed(placed, pose)
+    config = _config(scene, samples, depth, seed, precision, background, sensitivities, trace, "look")
+    placed = _placed(scene, {"position_m": position_m, "heading_deg": heading_deg, "pitch_deg": pitch_deg,
+                             "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})})
     rset, wl, table = eye.receptor_set, scene.wavelengths_nm, eye.table
     curve = config["colour"]["sensitivities"]
     settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=rset)
+    bounds = np.linspace(0, len(table.id), parts + 1).round().astype(int)
+    first, last = bounds[part], bounds[part + 1]
     errors = {}
-    radiance, _ = trace_receptors(placed, table, 0, len(table.id), settings, len(wl), rs=scene.raycasting,
-                                  sensitivities=(wl, curves(rset, wl, curve)), errors=errors)
-    columns, _ = respond(table, radiance, placed, wl, scene.path, receptor_set=rset,
-                         background=config["colour"]["background"], receptor_curves=curve,
-                         replicate_catches=errors["catches"])
-    columns["samples"] = errors["samples"]
-    _, axes = scenes.receptors_in_world(placed, table.position, table.axis)
-    directions = {"azimuth_deg": np.degrees(np.arctan2(axes[:, 1], axes[:, 0])),
-                  "elevation_deg": np.degrees(np.arcsin(np.clip(axes[:, 2], -1.0, 1.0)))}
-    return View(columns, radiance, wl, directions, rset.classes)
+    traced = trace_receptors(placed, table, first, last, settings, len(wl), progress, rs=scene.raycasting,
+                             polarised=polarised, target=target, sensitivities=(wl, curves(rset, wl, curve)),
+                             errors=errors)
+    radiance = traced[0][:, 0] if polarised else traced[0]
+    if parts > 1:
+        eye = Eye(eye.path, rows_of(table, slice(first, last)), rset, eye.eye_file)
+    return View(eye, scene, radiance, placed=placed, replicate_catches=errors["catches"], samples=errors["samples"],
+                radiance_se=errors["radiance_se"], background=config["colour"]["background"], sensitivities=curve,
+                stokes=traced[0] if polarised else None, cover=traced[2] if target is not None else None,
+                counts=traced[1])
+
+
+#: Frames :func:`looks` traces at once: their receptors' cones in one call, so that Embree's batches
+#: stay full however few receptors an eye has.
+FRAMES_AT_ONCE = 8
+
+
+def looks(eye, scene, poses, *, samples=None, depth=None, seed=None, precision=None, background=None,
+          sensitivities=None, trace=None, threads=None, progress=None, counts=None):
+    """The views from a sequence of poses, the eye and the scene held in memory: frame after frame.
+
+    :data:`FRAMES_AT_ONCE` poses are traced in one call. Each frame draws
+    random numbers of its own (a receptor's stream offset by the frame's
+    place in ``poses``), so that a sequence traces the same on any number
+    of threads; its first frame is the :func:`look` from its pose. A view's
+    :attr:`View.relative` catches are computed for the frames of a call at
+    once; its tables on first use.
+
+    Parameters
+    ----------
+    eye : Eye
+    scene : Scene
+    poses : iterable of mapping
+        Each: ``position_m`` (m) and either ``heading_deg``, ``pitch_deg``, ``roll_deg`` (degrees, the
+        scene's own where not given) or ``rotation`` (3 × 3, its columns the head's axes in the world).
+    samples, depth, seed, precision, background, sensitivities, trace, threads
+        As :func:`look`'s.
+    progress : callable, optional
+        Called with (frames done, frames) where ``poses`` has a length.
+    counts : dict, optional
+        Filled with the rays of every frame traced so far (``cast``, ``shadow``) and the tracing's wall
+        and CPU seconds (``seconds``, ``cpu_seconds``).
+
+    Yields
+    ------
+    View
+    """
+    config = _config(scene, samples, depth, seed, precision, background, sensitivities, trace, "looks")
+    rset, wl, table = eye.receptor_set, scene.wavelengths_nm, eye.table
+    curve = config["colour"]["sensitivities"]
+    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=rset)
+    sens = (wl, curves(rset, wl, curve))
+    n, width = len(table.id), int(table.id.max()) + 1
+    total = len(poses) if hasattr(poses, "__len__") else None
+    poses, done = iter(poses), 0
+    while chunk := [_placed(scene, p) for _, p in zip(range(FRAMES_AT_ONCE), poses)]:
+        origins, axes = map(np.vstack, zip(*(scenes.receptors_in_world(p, table.position, table.axis)
+                                             for p in chunk)))
+        # Each frame draws random numbers of its own: a receptor's id offset by the frame's.
+        streams = np.concatenate([(done + k) * width + table.id for k in range(len(chunk))]).astype(np.int64)
+        errors = {}
+        radiance, traced = trace_cones(scene.scene, origins, axes, np.tile(table.delta_rho_deg, len(chunk)), streams,
+                                       0, len(origins), settings, len(wl), rs=scene.raycasting, sensitivities=sens,
+                                       errors=errors)
+        relative = _relative(eye, chunk[0], radiance, wl, curve)
+        if counts is not None:
+            for key, value in traced.items():
+                counts[key] = counts.get(key, 0) + value
+        for k, placed in enumerate(chunk):
+            rows = slice(k * n, (k + 1) * n)
+            yield View(eye, scene, radiance[rows], placed=placed, replicate_catches=errors["catches"][rows],
+                       samples=errors["samples"][rows], radiance_se=errors["radiance_se"][rows],
+                       background=config["colour"]["background"], sensitivities=curve, counts=traced,
+                       relative=relative[k])
+        done += len(chunk)
+        if progress is not None:
+            progress(done, total)
+
+
+def human_view(scene, *, camera=None, position_m=None, heading_deg=None, pitch_deg=None, roll_deg=None,
+               rotation=None, size_px=None, samples=None, depth=None, seed=None, trace=None, threads=None):
+    """What a person sees of the scene through a pinhole camera: its CIE 1931 XYZ image (height, width, 3).
+
+    Traced as the receptors are (the config's ``trace`` section, the keywords
+    overriding it); :func:`human_srgb` makes it displayable.
+
+    Parameters
+    ----------
+    scene : Scene
+    camera : dict, optional
+        A scene's ``camera`` section (``position_m``, ``look_at_m``, ``vertical_fov_deg``, ``width_px``,
+        ``height_px``); the scene's own by default, or with a pose, the bee's view from the head.
+    position_m, heading_deg, pitch_deg, roll_deg, rotation
+        The head's pose, as :func:`look` takes it: the camera then looks where the head faces
+        (:func:`beeoptics.light.scene.bee_camera`), ``size_px`` (width, height) pixels.
+    samples : int, optional
+        Rays per pixel.
+    depth, seed, trace, threads
+        As :func:`look`'s.
+    """
+    config = validate_config({"trace": {**(trace or {}), **{k: v for k, v in (("depth", depth), ("seed", seed))
+                                                           if v is not None}}},
+                             CONFIG_SCHEMA, source="human_view", folders=False)
+    placed = _placed(scene, {"position_m": position_m, "heading_deg": heading_deg, "pitch_deg": pitch_deg,
+                             "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})})
+    if camera is None:
+        camera = placed.camera if placed is scene.scene else scenes.bee_camera(placed.eye_position,
+                                                                                placed.eye_rotation, *size_px)
+    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), samples=samples)
+    return render_human(placed, camera, settings, scene.wavelengths_nm, scene.raycasting)

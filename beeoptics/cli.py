@@ -9,6 +9,7 @@ pymeshlab, libigl, colour-science), are imported by the command that runs them, 
 """
 
 import argparse
+import inspect
 import os
 import shutil
 import sys
@@ -21,6 +22,7 @@ import numpy as np
 from tqdm import tqdm
 
 from beeoptics import __version__
+from beeoptics.eye.receptors import FORMATS, read_receptor_file, receptor_format
 from beeoptics.headframe import SIDES, eye_azimuth_elevation
 from beeoptics.io.atomic import Terminated, sigterm_as_interrupt, stop_behind
 from beeoptics.io.errors import InputError
@@ -75,8 +77,6 @@ SETTINGS = {
     ],
     "daylight": GRID,
 }
-FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud",
-           ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
 #: The formats in words, for the help: ".csv, .eye, .ply, .gltf or .glb".
 FORMAT_LIST = f"{', '.join(list(FORMATS)[:-1])} or {list(FORMATS)[-1]}"
 
@@ -203,7 +203,6 @@ def render(args):
     to is written beside the responses (receptors.csv).
     """
     from beeoptics.eye.description import check_receptors_of, load_eye
-    from beeoptics.light.batching import TraceSettings
     from beeoptics.pipeline import images
     from beeoptics.pipeline.trace import gather_responses, trace_part
     from beeoptics.vision.receptorset import DEFAULT_SET, load_receptor_set, receptor_set_of
@@ -217,7 +216,7 @@ def render(args):
                     load_receptor_set(args.receptors_set or DEFAULT_SET, source="command line",
                                       field="--receptor-set"))
     check_background(args.scene, background, args.scene, "materials")
-    table = None if _format(args.receptors) == ".csv" else read_receptor_file(args.receptors, args)
+    table = None if receptor_format(args.receptors) == ".csv" else _read_receptors(args.receptors, args)
     _meadow_made(args.scene)
     retinal = retinal_images(receptor_set) if args.eye is not None else {}
     spaces = colour_figures(receptor_set) if args.figures else {}
@@ -238,7 +237,7 @@ def render(args):
                 bar.update(done - bar.n)
             curves = config["colour"]["sensitivities"]
             trace_part(receptors, args.scene, {"radiance": tmp / "radiance.npz"}, spectral=spectral,
-                       settings=TraceSettings.from_config(config["trace"], args.threads, receptor_set=receptor_set),
+                       trace=config["trace"], threads=args.threads,
                        receptor_set=receptor_set,
                        progress=progress, receptor_curves=curves)
         gather_responses(receptors, args.scene, [tmp / "radiance.npz"],
@@ -261,50 +260,11 @@ def render(args):
     print(f"{args.output}: wrote {', '.join(names)}")
 
 
-def _format(path):
-    suffix = Path(path).suffix.lower()
-    if suffix not in FORMATS:
-        raise InputError(path, "", f"unknown format {suffix!r}; use "
-                         + ", ".join(f"{s} ({name})" for s, name in FORMATS.items()))
-    return suffix
-
-
-def read_receptor_file(path, args):
-    """A receptor table from a ``.csv``, ``.eye``, ``.ply``, ``.gltf`` or ``.glb`` file, with the options' conventions.
-
-    A ``.eye`` file holds no Δφ or facet diameter: unless the options give
-    them, Δφ is measured from neighbouring axes, and the facet diameter from
-    neighbouring positions when ``--facet-diameter-um spacing`` asks for it.
-    With ``--directions`` the file is a table of bare directions
-    (:func:`beeoptics.io.interchange.read_directions`), placed on the
-    sphere the options give, its Δφ measured and its Δρ that many Δφ.
-    """
-    from beeoptics.eye.receptors import measure_spacing
-    from beeoptics.io import interchange, oces
-    from beeoptics.io.receptortable import checked
-
-    if getattr(args, "directions", False):
-        if args.sphere_mm is None or args.centre_mm is None or args.delta_rho_per_delta_phi is None:
-            raise InputError(path, "", "a table of directions needs --sphere-mm, --centre-mm and "
-                             "--delta-rho-per-delta-phi to place its receptors and set their Δρ")
-        table = interchange.read_directions(path, halves=args.halves, frame=args.frame or "camera",
-                                            radius_mm=args.sphere_mm, centre_mm=args.centre_mm)
-        table = measure_spacing(table, path, facet_diameter_um=True)
-        return checked(table._replace(delta_rho_deg=args.delta_rho_per_delta_phi * table.delta_phi_deg), path)
-    kind = _format(path)
-    if kind == ".csv":
-        return read_receptors(path)
-    if kind == ".ply":
-        return interchange.read_receptor_ply(path)
-    if kind in (".gltf", ".glb"):
-        return oces.read_oces(path)
-    spacing = args.facet_diameter_um == "spacing"
-    table = interchange.read_compoundray_eye(path, side=args.side or "auto", units=args.units, frame=args.frame,
-                                             angle_convention=args.acceptance, delta_phi_deg=args.delta_phi_deg,
-                                             facet_diameter_um=None if spacing else args.facet_diameter_um)
-    if args.delta_phi_deg is None or spacing:
-        table = measure_spacing(table, path, delta_phi_deg=args.delta_phi_deg is None, facet_diameter_um=spacing)
-    return table
+def _read_receptors(path, args):
+    """Receptors in any format convert reads, in the conventions the options give (their dests are
+    :func:`beeoptics.eye.receptors.read_receptor_file`'s keywords)."""
+    keywords = list(inspect.signature(read_receptor_file).parameters)[1:]  # after the path
+    return read_receptor_file(path, **{k: v for k, v in vars(args).items() if k in keywords})
 
 
 def daylight(args):
@@ -314,16 +274,17 @@ def daylight(args):
     on an unshaded horizontal surface, W m⁻² nm⁻¹, for pavo's or
     micaToolbox's illuminant.
     """
+    from beeoptics.api import load_scene
     from beeoptics.light.daylight import clear_sky, write_daylight
     from beeoptics.light.materials import ground_albedo
-    from beeoptics.light.scene import load_scene
     from beeoptics.light.sky import horizontal_irradiance
     from beeoptics.spectra import grid
 
-    wl = grid(**settings(args)["spectral"])
+    spectral = settings(args)["spectral"]
+    wl = grid(**spectral)
     if args.scene:
         _meadow_made(args.scene)
-        scene = load_scene(args.scene, wl)
+        scene = load_scene(args.scene, **spectral).scene
         direct = horizontal_irradiance(None, scene.sun, len(wl))
         diffuse = horizontal_irradiance(scene.sky, None, len(wl))
     else:
@@ -372,8 +333,8 @@ def convert(args):
     """
     from beeoptics.io import interchange, oces
 
-    kind = _format(args.output)
-    table = read_receptor_file(args.input, args)
+    kind = receptor_format(args.output)
+    table = _read_receptors(args.input, args)
     side = args.only
     if side is not None:
         # One eye only: a micro-CT file of both eyes is kept so, the other its mirror.
@@ -424,13 +385,12 @@ def info(args):
     """Describe an eye.yaml, a scene.yaml, or a receptor table (.csv, .eye, .ply, .gltf or .glb)."""
     import igl
 
+    from beeoptics.api import load_scene
     from beeoptics.eye.description import load_eye, load_eye_mesh
-    from beeoptics.light.scene import load_scene
-    from beeoptics.spectra import grid
 
     path = Path(args.path)
     if path.suffix.lower() not in (".yaml", ".yml"):
-        t = read_receptor_file(path, args)
+        t = _read_receptors(path, args)
         side = np.asarray(t.side).astype(str)
         print(f"receptors: {len(side)} ({', '.join(f'{s} {np.sum(side == s)}' for s in SIDES)})")
         for label, column in (("facet diameter, µm", t.facet_diameter_um), ("Δφ, degrees", t.delta_phi_deg),
@@ -478,7 +438,7 @@ def info(args):
                     print(f"{section} {key.replace('_', ' ')}: {_readable(value) or 'compared'}")
         return
     _meadow_made(path)
-    scene = load_scene(path, grid(**config_default("spectral")))
+    scene = load_scene(path).scene
     data = validate(data, "scene", path)
     light, head, cam = data["light"], data["eye"], scene.camera
     print(f"scene: {scene.name}")

@@ -66,7 +66,7 @@ from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.precision import Precision
 from beeoptics.light.scene import load_scene, raycasting_scene
-from beeoptics.pipeline.trace import trace_receptors
+from beeoptics.tracing import trace_receptors
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.replicates import standard_error
 from beeoptics.spectra import grid

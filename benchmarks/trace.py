@@ -43,15 +43,13 @@ from pathlib import Path
 
 import numpy as np
 
-from beeoptics.io.receptortable import read_receptors
+import beeoptics
 from beeoptics.io.validation import config_defaults
-from beeoptics.light.batching import TraceSettings
-from beeoptics.light.scene import load_scene, raycasting_scene, receptors_in_world
+from beeoptics.light.scene import receptors_in_world
 from beeoptics.light.sensors import cone_samples
 from beeoptics.pipeline.trace import gather_responses, trace_part
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.raycasting import cast_rate, embree_seconds
-from beeoptics.spectra import grid
 from beeoptics.vision.receptorset import receptor_set_of
 
 from record import record
@@ -67,11 +65,12 @@ def build_eye(eye, receptors_csv):
 
 
 def bare_rays_per_s(scene, origins, axes, drho, rays, seed):
-    """Throughput of ``cast_rays`` alone on receptor-cone rays, batched as the trace batches."""
+    """Throughput of ``cast_rays`` alone on receptor-cone rays, batched as the trace batches, in a
+    :class:`beeoptics.Scene`'s Embree scene."""
     per = max(1, BARE_BATCH_RAYS // 256)
     dirs, _ = cone_samples(axes[:per], drho[:per], 256, seed)
     batch = np.hstack([np.repeat(origins[:per], 256, axis=0), dirs.reshape(-1, 3)])
-    return cast_rate(raycasting_scene(scene), batch, rays)
+    return cast_rate(scene.raycasting, batch, rays)
 
 
 def main():
@@ -100,11 +99,12 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         start = time.perf_counter()
         part = Path(tmp) / "radiance.npz"
-        settings = TraceSettings(args.spp, args.depth, args.seed, args.batch_rays, args.threads)
+        trace = {**{k: v for k, v in defaults["trace"].items() if k != "parts"}, "samples_per_receptor": args.spp,
+                 "depth": args.depth, "seed": args.seed, "batch_rays": args.batch_rays}
         before = embree_seconds()
         receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")
-        counts = trace_part(receptors_csv, scene_file, {"radiance": part}, spectral=spectral, settings=settings,
-                            receptor_set=receptor_set)
+        counts = trace_part(receptors_csv, scene_file, {"radiance": part}, spectral=spectral, trace=trace,
+                            threads=args.threads, receptor_set=receptor_set)
         gather_responses(receptors_csv, scene_file, [part], {"responses": Path(tmp) / "responses.csv",
                                                              "irradiance": Path(tmp) / "irradiance.npz"},
                          spectral=spectral, receptor_set=receptor_set)
@@ -113,15 +113,15 @@ def main():
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     rays = counts["cast"] + counts["shadow"]
 
-    table = read_receptors(receptors_csv)
-    scene = load_scene(scene_file, grid(**spectral))
-    origins, axes = receptors_in_world(scene, table.position, table.axis)
+    table = beeoptics.load_eye(receptors_csv).table
+    scene = beeoptics.load_scene(scene_file, **spectral)
+    origins, axes = receptors_in_world(scene.scene, table.position, table.axis)
     bare = bare_rays_per_s(scene, origins, axes, table.delta_rho_deg, rays, args.seed)
     pipeline = rays / wall
     print(f"{args.eye} pair in {args.scene}: {len(origins)} receptors, {rays} rays in {wall:.1f} s; "
           f"{pipeline / 1e6:.2f} M rays/s against {bare / 1e6:.2f} M bare")
     record("trace", {
-        "eye": args.eye, "scene": args.scene, "scene_triangles": sum(len(o.faces) for o in scene.objects),
+        "eye": args.eye, "scene": args.scene, "scene_triangles": int(scene.objects.faces.sum()),
         "spp": args.spp, "depth": args.depth, "threads": args.threads, "batch_rays": args.batch_rays,
         "receptors": len(origins), "rays": rays, "wall_s": round(wall, 2),
         "trace_s": round(counts["seconds"], 2),

@@ -99,11 +99,43 @@ def test_a_scene_relit_is_the_scene_loaded_under_that_light(scene):
     assert relit.raycasting is scene.raycasting  # the geometry is not loaded again
 
 
+def test_looks_trace_frame_after_frame_the_first_the_look_from_its_pose(eye, scene, view):
+    here = {"position_m": scene.scene.eye_position, "rotation": scene.scene.eye_rotation}
+    turned = {"position_m": [0.0, 0.0, 0.1], "heading_deg": 90.0, "pitch_deg": -10.0}
+    counts = {}
+    first, second = beeoptics.looks(eye, scene, [here, turned], **FAST, seed=3, counts=counts)
+    assert first.table().equals(view.table())
+    np.testing.assert_allclose(first.relative, view.relative, rtol=1e-12)
+    # The second frame is at its own pose, drawing random numbers of its own (not the look's from there).
+    np.testing.assert_allclose(second.directions, beeoptics.look(eye, scene, **FAST, **turned).directions)
+    assert counts["cast"] == first.counts["cast"] > 0
+
+
+def test_a_view_gives_its_images_as_arrays_and_its_figures(eye, view):
+    images = view.images(width_px=32, field_width_px=72)
+    assert images["field_map3"].shape == (36, 72, 3) and images["field_eyes"].shape == (36, 72)
+    retinal = ["voronoi_map3", "voronoi_map2", "density_map3", "density_map3_normalised", "channel_uv",
+               "channel_b", "channel_g"]
+    assert set(images) == {"field_map3", "field_map2", "field_eyes", *retinal}
+    for name in retinal:
+        assert images[name].shape[:2] == images["voronoi_map3"].shape[:2]
+        shown = images[name][np.isfinite(images[name])]
+        assert shown.size and shown.min() >= 0.0 and shown.max() <= 1.0, name
+    # What no receptor sees is NaN on the map, and the eyes' bits say which those directions are.
+    np.testing.assert_array_equal(np.isnan(images["field_map3"]).all(-1), images["field_eyes"] == 0)
+    with pytest.raises(InputError) as refused:
+        view.plot("mosaic")
+    assert view.plot("channel_uv", width_px=32).axes
+    assert refused.value.field == "kind"
+
+
 @pytest.mark.parametrize("call, field", [
     (lambda e, s: beeoptics.look(e, s, samples=0), "trace.samples_per_receptor"),
     (lambda e, s: beeoptics.look(e, s, **FAST, background="granite"), "background"),
     (lambda e, s: beeoptics.load_eye(EYE.with_name("none.yaml")), ""),
     (lambda e, s: beeoptics.load_eye(DATA / "none.eye", unit="mm"), "unit"),
+    (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.1]}], **FAST)), "position_m"),
+    (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.0, 0.1], "rotation": np.eye(2)}])), "rotation"),
 ])
 def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
     with pytest.raises(InputError) as refused:

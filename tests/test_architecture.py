@@ -24,13 +24,17 @@ ALLOWED = {
     "light": {"light", "eye", "io", *SHARED},
     "vision": {"vision", "io", *SHARED},
     "images": {"images", "vision", "light", "eye", "io", *SHARED},
-    # The navigation stage reads its maps and eyes through the API's records and calls beeoptics.navigation.
-    "pipeline": {"api", "navigation", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
-    # Views for navigation: maps traced by the receptors' tracer (a stage's function), resampled to eyes.
-    "navigation": {"navigation", "pipeline", "vision", "light", "eye", "io", *SHARED},
-    "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
-    # The Python API: the front door over the stages, reading other formats of receptors as the tool does.
-    "api": {"cli", "navigation", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    # (tracing only until the stages NOT_YET names reach it through the API.) The navigation stage reads its maps
+    # and eyes through the API's records and calls beeoptics.navigation.
+    "pipeline": {"pipeline", "api", "tracing", "navigation", "images", "vision", "light", "eye", "world", "io",
+                 *SHARED},
+    "cli": {"pipeline", "api", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    # The tracer's entry points, which only the API calls (test_stages_reach_the_tracer_through_the_api).
+    "tracing": {"vision", "light", "eye", "io", *SHARED},
+    # Views for navigation: maps traced by the receptors' tracer, resampled to eyes.
+    "navigation": {"navigation", "tracing", "vision", "light", "eye", "io", *SHARED},
+    # The Python API, the stages' one way to the tracer: it builds an eye and a meadow as their stages do.
+    "api": {"tracing", "navigation", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
     # The closed loop: an agent's moves and what the API's looks show it, casting its steps into the scene.
     "loop": {"api", "io", *SHARED},
 }
@@ -119,3 +123,64 @@ def test_no_two_modules_import_each_other_even_by_a_detour():
     for module in sorted(graph):
         if module not in state:
             visit(module, [module])
+
+
+#: The tracer's internals: what loads a scene into the tracer, builds its Embree scene, places receptors in it,
+#: draws their rays, traces paths and turns their radiance into catches. The API (beeoptics.api) is the one
+#: way to them, so that a stage, the command line and a benchmark trace alike and pass no dozen positional
+#: arguments of their own; a module whose every name is internal is named with "*".
+INTERNALS = {
+    "beeoptics.tracing": {"*"},
+    "beeoptics.light.integrator": {"*"},
+    "beeoptics.light.batching": {"TraceSettings", "trace_bundles"},
+    "beeoptics.light.sensors": {"cone_samples", "cone_sigma", "pinhole_rays"},
+    "beeoptics.light.scene": {"load_scene", "raycasting_scene", "receptors_in_world", "posed", "relit",
+                              "bee_camera"},
+    "beeoptics.light.precision": {"adaptive_samples", "replicate_samples"},
+    "beeoptics.vision.catches": {"quantum_catches"},
+}
+#: The stages: the workflow's stage functions and scripts, the command line and the benchmarks.
+STAGES = sorted([*(PACKAGE / "pipeline").glob("*.py"), PACKAGE / "cli.py",
+                 *(ROOT / "workflow" / "scripts").glob("*.py"), *(ROOT / "benchmarks").glob("*.py")])
+#: Stages that still reach the tracer past the API, each with the names it uses. The benchmarks' yardstick,
+#: bare Embree casting receptor-cone rays alone, and the scene loader's own benchmark, time the internals
+#: themselves and stay. The rest is a gap left visible, to close: the detection survey's and the compass's
+#: cones of a few receptors at many poses, the polarisation maps' Stokes vectors (and the benchmarks that
+#: run them), a flight's detection from its frames' radiance, and the kernels' compilation on a toy.
+NOT_YET = {
+    "benchmarks/route.py": {"receptors_in_world", "cone_samples"},
+    "benchmarks/trace.py": {"receptors_in_world", "cone_samples"},
+    "benchmarks/load.py": {"load_scene"},
+    "benchmarks/noise.py": {"TraceSettings", "load_scene", "raycasting_scene", "trace_receptors", "quantum_catches"},
+    "benchmarks/coating.py": {"TraceSettings"},
+    "beeoptics/pipeline/detection.py": {"load_scene", "raycasting_scene", "trace_cones", "quantum_catches"},
+    "beeoptics/pipeline/polarisation.py": {"load_scene", "raycasting_scene", "relit", "trace_cones",
+                                           "trace_receptors", "quantum_catches"},
+    "beeoptics/pipeline/kernels.py": {"TraceSettings", "load_scene", "render_human", "trace_receptors"},
+    "beeoptics/pipeline/flights.py": {"quantum_catches"},
+    "workflow/scripts/compass.py": {"TraceSettings"},
+    "workflow/scripts/detection_survey.py": {"TraceSettings"},
+    "workflow/scripts/polarisation_maps.py": {"TraceSettings"},
+}
+
+
+def internal_uses(path):
+    """The tracer's internals a source file imports: (line, name) pairs."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module in INTERNALS:
+            names = INTERNALS[node.module]
+            found += [(node.lineno, a.name) for a in node.names if "*" in names or a.name in names]
+        elif isinstance(node, ast.Import):
+            found += [(node.lineno, a.name) for a in node.names if a.name in INTERNALS]
+    return found
+
+
+@pytest.mark.parametrize("path", STAGES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_stages_reach_the_tracer_through_the_api(path):
+    name = str(path.relative_to(ROOT))
+    uses = internal_uses(path)
+    past = [f"{name}:{line}: {what}" for line, what in uses if what not in NOT_YET.get(name, ())]
+    assert not past, f"past the API: {', '.join(past)}"
+    # A gap closed is taken off the list.
+    assert {what for _, what in uses} >= NOT_YET.get(name, set()), f"{name} no longer uses all NOT_YET names"

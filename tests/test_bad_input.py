@@ -775,12 +775,11 @@ def test_tracing_a_scene_with_no_light_exits_nonzero_and_writes_nothing(tmp_path
     out = tmp_path / "results"
     out.mkdir()
     result = run_stage(f"""
-        from beeoptics.light.batching import TraceSettings
         from beeoptics.pipeline.trace import trace_part
         from beeoptics.vision.receptorset import load_receptor_set
         trace_part("receptors.csv", {str(scene_file)!r}, {{"radiance": {str(out / "radiance_0_of_1.npz")!r}}},
                    spectral={{"start_nm": 300, "end_nm": 700, "step_nm": 10}},
-                   settings=TraceSettings(samples=4, depth=1, seed=1, batch_rays=1024),
+                   trace={{"samples_per_receptor": 4, "depth": 1, "seed": 1, "batch_rays": 1024}}, threads=1,
                    receptor_set=load_receptor_set())
         """, tmp_path)
     assert result.returncode != 0
@@ -885,7 +884,7 @@ def test_a_facet_count_the_cornea_cannot_hold_gets_one_line_at_once(tmp_path, co
 @pytest.mark.parametrize("height_m, warned", [(0.1, False), (-0.1, True)])
 def test_an_eye_below_the_ground_still_renders_but_is_warned_of(tmp_path, caplog, height_m, warned):
     from beeoptics.light.batching import TraceSettings
-    from beeoptics.pipeline.trace import trace_receptors
+    from beeoptics.tracing import trace_receptors
     from beeoptics.spectra import grid as spectral_grid
     from conftest import build_eye_files
 

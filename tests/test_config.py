@@ -50,6 +50,7 @@ def test_every_door_takes_its_defaults_from_the_schema():
     from beeoptics.eye.optics import AcceptanceModel
     from beeoptics.io.validation import config_defaults
     from beeoptics.light.batching import TraceSettings
+    from beeoptics import tracing
     from beeoptics.pipeline import eyes, flights, images, polarisation, trace
     from beeoptics.spectra import grid
     from beeoptics.vision.receptorset import curves
@@ -59,7 +60,7 @@ def test_every_door_takes_its_defaults_from_the_schema():
     np.testing.assert_array_equal(grid(), grid(**config["spectral"]))
     assert TraceSettings(1, 1, 1, 1024).sky_sampling == config["trace"]["sky_sampling"]
     doors = [(trace.gather_responses, {"background": "colour.background", "receptor_curves": "colour.sensitivities"}),
-             (trace.respond, {"background": "colour.background", "receptor_curves": "colour.sensitivities"}),
+             (tracing.respond, {"background": "colour.background", "receptor_curves": "colour.sensitivities"}),
              (flights.flight_products, {"background": "colour.background"}),
              (curves, {"setting": "colour.sensitivities"}),
              (eyes.remesh_eye, {"edge_fraction": "eye.edge_fraction"}),

@@ -10,7 +10,7 @@ from beeoptics.replicates import REPLICATES, T95, standard_error
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.light.sampler import tangent_frames
-from beeoptics.pipeline.trace import trace_cones
+from beeoptics.tracing import trace_cones
 from conftest import ROOT, write_scene
 
 MEADOW = ROOT / "tests" / "data" / "scenes" / "meadow_tiny" / "scene.yaml"

@@ -9,7 +9,8 @@ from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.io.receptortable import COLUMNS, read_receptors
 from beeoptics.io.table import read_table, write_table
 from beeoptics.light.scene import load_scene
-from beeoptics.pipeline.trace import gather_responses, respond
+from beeoptics.pipeline.trace import gather_responses
+from beeoptics.tracing import respond
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.colourspace import excitation

@@ -127,7 +127,8 @@ def traced_fan(tmp_path, n, rng_seed, samples, depth, step_nm, runs):
         out = tmp_path / f"radiance_{batch_rays}_{threads}.npz"
         trace_part(tmp_path / "receptors.csv", MEADOW, {"radiance": out},
                    spectral={"start_nm": 300, "end_nm": 700, "step_nm": step_nm},
-                   settings=TraceSettings(samples, depth, seed=5, batch_rays=batch_rays, threads=threads),
+                   trace={"samples_per_receptor": samples, "depth": depth, "seed": 5, "batch_rays": batch_rays},
+                   threads=threads,
                    receptor_set=load_receptor_set())
         radiance.append(np.load(out)["radiance"])
     assert radiance[0].max() > 0.0

@@ -9,13 +9,20 @@ CompoundRay eye), the neighbours of a spherical Delaunay triangulation of
 each eye's axes (:func:`beeoptics.eye.lattice.sphere_triangles`).
 """
 
+from pathlib import Path
+
 import numpy as np
 from scipy.spatial import QhullError, cKDTree
 
 from beeoptics.eye.lattice import edge_angles, mean_over_edges, sphere_triangles, triangle_edges
 from beeoptics.headframe import LEFT, RIGHT, SIDES, mirror
+from beeoptics.io import interchange, oces
 from beeoptics.io.errors import InputError
-from beeoptics.io.receptortable import ReceptorTable
+from beeoptics.io.receptortable import ReceptorTable, checked, read_receptors
+
+#: The formats receptors are read from and written to, by extension.
+FORMATS = {".csv": "receptor table", ".eye": "CompoundRay eye", ".ply": "receptor point cloud",
+           ".gltf": "OCES glTF", ".glb": "OCES binary glTF"}
 
 
 def delta_phi(axes, edges):
@@ -101,3 +108,76 @@ def measure_spacing(table, source, delta_phi_deg=True, facet_diameter_um=False):
             length = np.linalg.norm(position[edges[:, 1]] - position[edges[:, 0]], axis=1)
             facet[rows] = 1e3 * mean_over_edges(edges, length, rows.size)
     return table._replace(delta_phi_deg=dphi, facet_diameter_um=facet)
+
+
+def receptor_format(path):
+    """The format of a receptor file, its extension (a key of :data:`FORMATS`); an unknown one is refused."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in FORMATS:
+        raise InputError(path, "", f"unknown format {suffix!r}; use "
+                         + ", ".join(f"{s} ({name})" for s, name in FORMATS.items()))
+    return suffix
+
+
+def read_receptor_file(path, *, units="mm", frame=None, acceptance="fwhm", side=None, delta_phi_deg=None,
+                       facet_diameter_um=None, directions=False, halves=None, sphere_mm=None, centre_mm=None,
+                       delta_rho_per_delta_phi=None):
+    """A receptor table from a ``.csv``, ``.eye``, ``.ply``, ``.gltf`` or ``.glb`` file, in the conventions given.
+
+    A ``.eye`` file holds no Δφ or facet diameter: unless given, Δφ is
+    measured from neighbouring axes, and the facet diameter from neighbouring
+    positions where ``facet_diameter_um="spacing"`` asks for it. With
+    ``directions`` the file is a table of bare directions
+    (:func:`beeoptics.io.interchange.read_directions`), placed on the sphere
+    given, its Δφ measured and its Δρ that many Δφ. The keywords are
+    ``beeoptics convert``'s options (see its ``--help``).
+
+    Parameters
+    ----------
+    units : {"mm", "m"} or float
+        Lengths in a ``.eye`` file: mm, m, or file units per mm.
+    frame : str, optional
+        A ``.eye`` file's or a directions table's axes: ``"camera"``, ``"head"`` or ``"x=…,y=…,z=…"``.
+    acceptance : {"fwhm", "variance"}
+        A ``.eye`` file's acceptance angle is Δρ or √2·Δρ.
+    side : {"left", "right", "auto"}, optional
+        The eye a ``.eye`` file holds; by default each receptor's by the sign of its head-frame y.
+    delta_phi_deg : float, optional
+        Δφ of every receptor of a ``.eye`` file, degrees; measured from neighbouring axes by default.
+    facet_diameter_um : float or "spacing", optional
+        The facet diameter of every receptor of a ``.eye`` file, µm, or the mean distance to its neighbours.
+    directions : bool
+        The file is a table of bare unit directions (x,y,z a line, no header).
+    halves : (str, str), optional
+        A directions table's first and second halves' eyes.
+    sphere_mm, centre_mm, delta_rho_per_delta_phi : float, (3,) and float
+        A directions table's sphere radius (mm), its right eye's centre (head frame, mm), and each
+        receptor's Δρ as a multiple of its Δφ.
+
+    Raises
+    ------
+    InputError
+        Naming the file and the field of bad input.
+    """
+    if directions:
+        if sphere_mm is None or centre_mm is None or delta_rho_per_delta_phi is None:
+            raise InputError(path, "", "a table of directions needs --sphere-mm, --centre-mm and "
+                             "--delta-rho-per-delta-phi to place its receptors and set their Δρ")
+        table = interchange.read_directions(path, halves=halves, frame=frame or "camera", radius_mm=sphere_mm,
+                                            centre_mm=centre_mm)
+        table = measure_spacing(table, path, facet_diameter_um=True)
+        return checked(table._replace(delta_rho_deg=delta_rho_per_delta_phi * table.delta_phi_deg), path)
+    kind = receptor_format(path)
+    if kind == ".csv":
+        return read_receptors(path)
+    if kind == ".ply":
+        return interchange.read_receptor_ply(path)
+    if kind in (".gltf", ".glb"):
+        return oces.read_oces(path)
+    spacing = facet_diameter_um == "spacing"
+    table = interchange.read_compoundray_eye(path, side=side or "auto", units=units, frame=frame,
+                                             angle_convention=acceptance, delta_phi_deg=delta_phi_deg,
+                                             facet_diameter_um=None if spacing else facet_diameter_um)
+    if delta_phi_deg is None or spacing:
+        table = measure_spacing(table, path, delta_phi_deg=delta_phi_deg is None, facet_diameter_um=spacing)
+    return table

@@ -293,7 +293,7 @@ def retinas(images, extents, anterior, dorsal):
     for image, path, title, caption, colourbar_label in images:
         kind = (image.ndim, colourbar_label)
         if kind not in drawn:
-            drawn[kind] = _retina_figure(image, extents, anterior, dorsal, title, caption, colourbar_label)
+            drawn[kind] = retina_figure(image, extents, anterior, dorsal, title, caption, colourbar_label)
             save(drawn[kind][0], path)
             # No layout engine from here on (not even "none", with which saving draws the figure twice).
             drawn[kind][0].set_layout_engine(None)
@@ -320,9 +320,9 @@ def _caption(caption, width):
     return textwrap.fill(caption, int(18 * width))
 
 
-def _retina_figure(image, extents, anterior, dorsal, title, caption, colourbar_label):
-    """A figure of :func:`retinas`, with what changes from image to image: the two images' artists, the
-    title's and the caption's texts, and the figure's width, inches."""
+def retina_figure(image, extents, anterior, dorsal, title, caption, colourbar_label):
+    """A figure of :func:`retinas` (a matplotlib Figure), with what changes from image to image: the two images'
+    artists, the title's and the caption's texts, and the figure's width, inches."""
     x0, x1, y0, y1 = extents[0]
     # Panels as wide as the eyes are, so that a tall eye does not leave the figure empty.
     aspect = min(max(abs(x1 - x0) / abs(y1 - y0), 0.4), 1.6)
@@ -370,7 +370,7 @@ def visual_field(panels, eyes, azimuth_deg, elevation_deg, human, path, title):
     human : ndarray (H, W, 3) or None
         The human pinhole render.
     """
-    save(_visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 5.2)[0], path)
+    save(visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 5.2)[0], path)
 
 
 def visual_field_frames(frames, eyes, azimuth_deg, elevation_deg):
@@ -385,7 +385,7 @@ def visual_field_frames(frames, eyes, azimuth_deg, elevation_deg):
     for panels, human, title in frames:
         shown = [np.nan_to_num(rgb, nan=0.35) for rgb in panels.values()] + ([] if human is None else [human])
         if fig is None:
-            fig, heading = _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 3.6)
+            fig, heading = visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, 3.6)
             canvas = FigureCanvasAgg(fig)
             canvas.draw()
             fig.set_layout_engine(None)
@@ -401,8 +401,9 @@ def _field_title(title):
     return title + " — white outline: binocular overlap; grey: not seen"
 
 
-def _visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, panel_width_in):
-    """The figure of :func:`visual_field`, and its title's text."""
+def visual_field_figure(panels, eyes, azimuth_deg, elevation_deg, human, title, panel_width_in):
+    """The figure of :func:`visual_field` (a matplotlib Figure, ``panel_width_in`` inches a panel), and its
+    title's text."""
     n = len(panels) + (human is not None)
     fig = Figure(figsize=(panel_width_in * n, panel_width_in * 0.73), layout="constrained", dpi=100)
     axes = fig.subplots(1, n)

@@ -26,7 +26,9 @@ import numpy as np
 from scipy.ndimage import gaussian_filter
 from scipy.spatial import Delaunay, cKDTree
 
-from beeoptics.headframe import LEFT, RIGHT, mirror
+from beeoptics.headframe import LEFT, RIGHT, in_eye_plane, mirror
+from beeoptics.images.display import encode
+from beeoptics.images.fieldmaps import paint
 
 #: Blank margin around each eye, as a fraction of its extent.
 MARGIN = 0.03
@@ -120,3 +122,45 @@ def density(can, xy, sides, values, normalise):
             layer = np.divide(sums, count, out=np.full_like(sums, np.nan), where=count > 0) if normalise else sums
             out[:, cols, k] = np.where(inside, layer, np.nan)
     return out
+
+
+class Retina(NamedTuple):
+    """The retinal images of an eye pair in a view (:func:`retinal_images`)."""
+
+    images: dict  # voronoi_map3, voronoi_map2, density_map3, density_map3_normalised: (h, 2w, 3) in [0, 1], NaN outside
+    channels: dict  # each receptor class's catch over white's, (h, 2w) clipped to [0, 1]
+    nearest: np.ndarray  # (h, 2w): each pixel's nearest receptor, -1 outside the eyes
+    extents: tuple  # each half's extent in the retinal plane, mm (panel_extents)
+    anterior: np.ndarray  # (2,): the head's anterior direction in the retinal plane
+    dorsal: np.ndarray  # (2,): its dorsal direction
+
+
+def retinal_images(eye, table, relative, colours, srgb, classes, width_px):
+    """Both eyes' retinal images of a view: Voronoi and density images of map3, map2 and each class's channel.
+
+    Parameters
+    ----------
+    eye : beeoptics.eye.description.Eye
+        The eye's description, placing it on the head.
+    table : ReceptorTable
+    relative, colours, srgb : ndarray (n, classes), (n, 3), (n, 3)
+        Each receptor's catches over white's, its map3 colour and its map2 colour
+        (:func:`beeoptics.images.display.bee_colours`).
+    classes : sequence of str
+        The receptor classes, ``relative``'s columns.
+    width_px : int
+        Each eye's panel width, pixels.
+    """
+    xy = retinal_plane(eye, table.position, table.side)
+    can = canvas(xy, width_px)
+    dens = density(can, xy, table.side, colours, normalise=False)
+    shows = nearest_receptor(can, xy, table.side)
+    images = {
+        "voronoi_map3": encode(paint(shows, colours)),
+        # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
+        "voronoi_map2": paint(shows, srgb),
+        "density_map3": encode(dens, np.nanpercentile(dens, 99.5)),
+        "density_map3_normalised": encode(density(can, xy, table.side, colours, normalise=True)),
+    }
+    channels = {name: np.clip(paint(shows, relative[:, k])[..., 0], 0.0, 1.0) for k, name in enumerate(classes)}
+    return Retina(images, channels, shows, panel_extents(can), *in_eye_plane(eye.rotation))

@@ -90,8 +90,8 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.sensors import cone_sigma
-from beeoptics.pipeline.trace import trace_cones
 from beeoptics.replicates import standard_error
+from beeoptics.tracing import trace_cones
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import DEFAULT_CURVES, curves
 

@@ -29,7 +29,7 @@ from beeoptics.io.errors import InputError
 from beeoptics.light.sampler import STREAMS
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.pipeline.logs import log
-from beeoptics.pipeline.trace import trace_cones
+from beeoptics.tracing import trace_cones
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import COLUMNS, RING_DELTA_PHI, detect, local_background

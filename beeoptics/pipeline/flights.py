@@ -18,16 +18,13 @@ from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode, map3
 from beeoptics.images.viewer import flight_viewer
 from beeoptics.images.fieldmaps import paint
+from beeoptics.api import View, human_srgb, human_view, load_eye, load_scene, look, looks
 from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.imagefile import write_gif, write_mp4
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import config_default
-from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
-from beeoptics.light.sky import white_radiance
 from beeoptics.pipeline.images import display_words
-from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_cones, trace_receptors
-from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background
@@ -55,54 +52,43 @@ def _poses(flight_file, fps, first, count):
     return [pose(flight, t) for t in frame_times(flight, fps)[first:first + count]]
 
 
-def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, count, fps, spectral, settings,
-                 target=None, receptor_set=None, receptor_curves=DEFAULT_CURVES):
+def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, count, fps, spectral, trace, threads,
+                 receptor_set, target=None, receptor_curves=DEFAULT_CURVES):
     """Trace every receptor at a share of a flight's frames: ``outputs["frames"]`` (npz).
 
     The share is frames ``first`` … ``first + count − 1``; the scene and its
-    Embree scene are made once for all of them. The file holds, per frame,
+    Embree scene are made once for all of them, and each frame is a
+    :func:`beeoptics.api.look` from its pose. The file holds, per frame,
     each receptor's radiance (as a trace share), the pose, and each
     receptor's distance along its axis to the first surface (infinite for
     the sky); with a ``target`` (the flight's, see :func:`flight_products`),
     also each receptor's share of its acceptance that met it first
-    (``cover``), within the sphere of its radius about its centre. With a
-    ``receptor_set``, a precision asked of the trace is asked of its
-    catches (:func:`beeoptics.pipeline.trace.trace_cones`).
+    (``cover``), within the sphere of its radius about its centre. A
+    precision asked of the trace (``trace``, a config's trace section) is
+    asked of the catches of ``receptor_set``.
     """
-    wl = grid(**spectral)
-    scene = load_scene(scene_file, wl)
-    table = read_receptors(receptors_csv)
-    rs = raycasting_scene(scene)
+    eye = load_eye(receptors_csv, receptor_set=receptor_set)
+    scene = load_scene(scene_file, **spectral)
     sphere = None if target is None else (np.asarray(target["position_m"], float), float(target["radius_m"]))
-    sensitivities = None if receptor_set is None else (wl, curves(receptor_set, wl, receptor_curves))
-    radiance, depth, cover, poses = [], [], [], _poses(flight_file, fps, first, count)
-    for p in poses:
-        here = posed(scene, p.eye())
-        traced = trace_receptors(here, table, 0, len(table.id), settings, len(wl), rs=rs, target=sphere,
-                                 sensitivities=sensitivities)
-        radiance.append(traced[0])
-        cover.append(traced[2] if sphere is not None else np.zeros(len(table.id)))
-        origins, axes = receptors_in_world(here, table.position, table.axis)
-        depth.append(first_hits(rs, np.column_stack([origins, axes]).astype(np.float32))["t_hit"].astype(np.float64))
+    poses = _poses(flight_file, fps, first, count)
+    views = [look(eye, scene, **p.eye(), target=sphere, trace=trace, threads=threads, sensitivities=receptor_curves)
+             for p in poses]
     with atomic_path(outputs["frames"]) as tmp:
-        np.savez(tmp, id=table.id, frame=first + np.arange(len(poses)), radiance=np.array(radiance),
-                 cover=np.array(cover), depth_m=np.array(depth), time_s=np.array([p.time for p in poses]),
+        np.savez(tmp, id=eye.table.id, frame=first + np.arange(len(poses)),
+                 radiance=np.array([v.radiance for v in views]),
+                 cover=np.array([np.zeros(len(eye.table.id)) if v.cover is None else v.cover for v in views]),
+                 depth_m=np.array([v.distance_m for v in views]), time_s=np.array([p.time for p in poses]),
                  position_m=np.array([p.position for p in poses]), rotation=np.array([p.rotation for p in poses]),
                  velocity_m_s=np.array([p.velocity for p in poses]),
                  angular_velocity_rad_s=np.array([p.angular_velocity for p in poses]))
 
 
-def human_frames(scene_file, flight_file, outputs, *, first, count, fps, spectral, settings, size_px):
-    """The human view from the bee's head at a share of a flight's frames (as :func:`trace_frames`):
-    ``outputs["frames"]`` (npz: ``srgb``, display sRGB in [0, 1], frames × height × width × 3)."""
-    wl = grid(**spectral)
-    scene = load_scene(scene_file, wl)
-    rs = raycasting_scene(scene)
-    images = []
-    for p in _poses(flight_file, fps, first, count):
-        here = posed(scene, p.eye())
-        images.append(human_srgb(render_human(here, bee_camera(here.eye_position, here.eye_rotation, *size_px),
-                                           settings, wl, rs)))
+def human_frames(scene_file, flight_file, outputs, *, first, count, fps, spectral, trace, threads, samples, size_px):
+    """The human view from the bee's head at a share of a flight's frames (as :func:`trace_frames`), ``samples``
+    rays a pixel: ``outputs["frames"]`` (npz: ``srgb``, display sRGB in [0, 1], frames × height × width × 3)."""
+    scene = load_scene(scene_file, **spectral)
+    images = [human_srgb(human_view(scene, **p.eye(), size_px=size_px, samples=samples, trace=trace, threads=threads))
+              for p in _poses(flight_file, fps, first, count)]
     with atomic_path(outputs["frames"]) as tmp:
         np.savez(tmp, srgb=np.array(images, np.float32))
 
@@ -144,9 +130,9 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
         The flower the flight approaches, as a disc: ``position_m`` (3,)
         of its centre, ``radius_m`` and ``normal`` (3,), the way it faces.
     """
-    wl = grid(**spectral)
-    table = read_receptors(receptors_csv)
-    scene = load_scene(scene_file, wl, geometry=False)
+    eye = load_eye(receptors_csv, receptor_set=receptor_set)
+    table, scene = eye.table, load_scene(scene_file, **spectral, geometry=False)
+    wl = scene.wavelengths_nm
     field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, MAP_WIDTH_PX)
     seen = field.receptor >= 0
     # Receptor axes in the head frame: azimuth and elevation of each, for the flow's components.
@@ -163,8 +149,8 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
         g = {name: share[name][j] for name in ("depth_m", "time_s", "position_m", "rotation", "velocity_m_s",
                                                "angular_velocity_rad_s")}
         radiance = share["radiance"][j]
-        columns, arrays = respond(table, radiance, scene, wl, scene_file, receptor_set=receptor_set,
-                                  background=background, receptor_curves=receptor_curves)
+        view = View(eye, scene, radiance, background=background, sensitivities=receptor_curves)
+        columns, arrays = view.columns, view.spectra
         n = len(table.id)
         responses.append({"frame": np.full(n, k), "t_s": np.full(n, float(g["time_s"])), **columns})
         rotation = g["rotation"]
@@ -257,18 +243,14 @@ def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_s
     figures.flight_detection(columns, first, receptor_set.detection, outputs["figure"], title)
 
 
-#: Frames traced at once by :func:`flight_views`: their receptors' cones in one call, so that
-#: Embree's batches stay full however few receptors an eye has.
-VIEW_FRAMES_AT_ONCE = 8
-
-
-def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *, fps, spectral, settings,
+def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *, fps, spectral, trace, threads,
                  receptor_set, receptor_curves=DEFAULT_CURVES, width_px=MAP_WIDTH_PX, title="", progress=None):
     """Views along a route, light and long: every receptor's catches at every frame of a flight, in one job.
 
     The scene is loaded once and every frame's receptors are traced with
-    the flight's ``views`` settings (by default depth 1, 16 samples: direct
-    light, the sun and the sky), :data:`VIEW_FRAMES_AT_ONCE` frames a call.
+    the flight's ``views`` settings (``trace``, a config's trace section: by
+    default depth 1, 16 samples: direct light, the sun and the sky), as
+    :func:`beeoptics.api.looks` traces a sequence of poses.
     Writes ``catches`` (npz: ``catches`` frames × receptors × classes,
     float32, each class's quantum catch of the receptor's radiance over
     that of a white Lambertian surface under the scene's light, map3's
@@ -284,34 +266,16 @@ def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *,
     dict
         ``frames``, ``rays`` (every ray cast), ``trace_s`` (the tracing's wall time).
     """
-    wl = grid(**spectral)
-    scene = load_scene(scene_file, wl)
-    rs = raycasting_scene(scene)
-    table = read_receptors(receptors_csv)
-    sens = curves(receptor_set, wl, receptor_curves)
-    white = quantum_catches(white_radiance(scene.sky, scene.sun, len(wl))[None], sens, wl)[0]
+    eye = load_eye(receptors_csv, receptor_set=receptor_set)
+    table = eye.table
     flight = read_flight(flight_file)
     poses = [pose(flight, t) for t in frame_times(flight, fps)]
-    n, width = len(table.id), int(table.id.max()) + 1
-    types = ommatidium_types(receptor_set, n)
-    absent = lacking(receptor_set, types) if types is not None else np.zeros((n, len(receptor_set.classes)), bool)
-    catches = np.empty((len(poses), n, len(receptor_set.classes)), np.float32)
-    rays, seconds = 0, 0.0
-    for start in range(0, len(poses), VIEW_FRAMES_AT_ONCE):
-        chunk = poses[start:start + VIEW_FRAMES_AT_ONCE]
-        origins = np.vstack([table.position * 1e-3 @ p.rotation.T + p.position for p in chunk])
-        axes = np.vstack([table.axis @ p.rotation.T for p in chunk])
-        # Each frame draws random numbers of its own: a receptor's id offset by the frame's.
-        streams = np.concatenate([(start + k) * width + table.id for k in range(len(chunk))]).astype(np.int64)
-        radiance, counts = trace_cones(scene, origins, axes, np.tile(table.delta_rho_deg, len(chunk)), streams, 0,
-                                       len(origins), settings, len(wl), rs=rs, sensitivities=(wl, sens))
-        q = (quantum_catches(radiance, sens, wl) / white).reshape(len(chunk), n, -1)
-        q[:, absent] = np.nan
-        catches[start:start + len(chunk)] = q
-        rays += counts["cast"] + counts["shadow"]
-        seconds += counts["seconds"]
-        if progress is not None:
-            progress(start + len(chunk), len(poses))
+    counts = {}
+    catches = np.array([view.relative for view in looks(eye, load_scene(scene_file, **spectral),
+                                                        [{"position_m": p.position, "rotation": p.rotation}
+                                                         for p in poses], sensitivities=receptor_curves, trace=trace,
+                                                        threads=threads, progress=progress, counts=counts)],
+                       np.float32).reshape(len(poses), len(table.id), len(receptor_set.classes))
     with atomic_path(outputs["catches"]) as tmp:
         np.savez(tmp, catches=catches, classes=np.array(receptor_set.classes), id=table.id,
                  side=np.asarray(table.side).astype(str), t_s=np.array([p.time for p in poses]),
@@ -325,9 +289,9 @@ def flight_views(receptors_csv, scene_file, flight_file, human_npzs, outputs, *,
                   receptor_set.classes, [p.time for p in poses], title,
                   f"map3 (Collins §4.4): {display_words(receptor_set)}, each catch over a white Lambertian "
                   "surface's under the scene's light, so white shows white; traced with the flight's views settings "
-                  f"({settings.samples} samples a receptor, depth {settings.depth}). Every receptor of both eyes at "
-                  "its axis in the head's frame; hover for its catches at the frame shown.")
-    return {"frames": len(poses), "rays": rays, "trace_s": seconds}
+                  f"({trace['samples_per_receptor']} samples a receptor, depth {trace['depth']}). Every receptor of "
+                  "both eyes at its axis in the head's frame; hover for its catches at the frame shown.")
+    return {"frames": len(poses), "rays": counts["cast"] + counts["shadow"], "trace_s": counts["seconds"]}
 
 
 def video_frame(field, colours, human=None):

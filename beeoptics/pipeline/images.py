@@ -10,10 +10,9 @@ from beeoptics.eye.description import load_eye
 from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
 from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode, polarisation_colours
-from beeoptics.images.fieldmaps import paint
-from beeoptics.headframe import in_eye_plane
+from beeoptics.images.fieldmaps import field_images, paint
 from beeoptics.pipeline.outputs import channel
-from beeoptics.images.retina import canvas, density, nearest_receptor, panel_extents, retinal_plane
+from beeoptics.images.retina import retinal_images as retina_images
 from beeoptics.io.imagefile import read_image, write_exr
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table
@@ -59,31 +58,19 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
     on the same pixels. ``outputs`` maps the names of
     :data:`beeoptics.pipeline.outputs.IMAGES` to paths.
     """
-    eye = load_eye(eye_file)
     table = read_receptors(receptors_csv)
     _, _, catches, (relative, colours, srgb) = _responses(responses_csv, irradiance_npz, receptor_set)
-    xy = retinal_plane(eye, table.position, table.side)
-    can = canvas(xy, width_px)
-    extents = panel_extents(can)
-    anterior, dorsal = in_eye_plane(eye.rotation)
-    dens = density(can, xy, table.side, colours, normalise=False)
-    shows = nearest_receptor(can, xy, table.side)
-    shown = {
-        "voronoi_map3": encode(paint(shows, colours)),
-        # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
-        "voronoi_map2": paint(shows, srgb),
-        "density_map3": encode(dens, np.nanpercentile(dens, 99.5)),
-        "density_map3_normalised": encode(density(can, xy, table.side, colours, normalise=True)),
-    }
+    retina = retina_images(load_eye(eye_file), table, relative, colours, srgb, receptor_set.classes, width_px)
+    shown = dict(retina.images)
     captions = {k: v.format(display=display_words(receptor_set)) for k, v in RETINAL_CAPTIONS.items()}
-    for k, name in enumerate(receptor_set.classes):
-        shown[channel(name)] = np.clip(paint(shows, relative[:, k])[..., 0], 0.0, 1.0)
+    for name, image in retina.channels.items():
+        shown[channel(name)] = image
         captions[channel(name)] = (f"{name} receptor catch over a white surface's under the scene's light, linear, "
                                    "0 black, 1 white, above 1 clipped.")
     figures.retinas([(image, outputs[name], f"{title}: {name.replace('_', ' ')}", f"{captions[name]} {_SURROUND}",
                       "catch ÷ white's catch" if image.ndim == 2 else None) for name, image in shown.items()],
-                    extents, anterior, dorsal)
-    write_exr(outputs["exr"], np.nan_to_num(paint(shows, catches), nan=0.0), receptor_set.classes)
+                    retina.extents, retina.anterior, retina.dorsal)
+    write_exr(outputs["exr"], np.nan_to_num(paint(retina.nearest, catches), nan=0.0), receptor_set.classes)
 
 
 def display_words(receptor_set):
@@ -105,12 +92,9 @@ def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, o
     table = read_receptors(receptors_csv)
     _, _, catches, (_, colours, srgb) = _responses(responses_csv, irradiance_npz, receptor_set)
     field = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, width_px)
-    seen = field.receptor >= 0
-    panels = {
-        f"bee colours (map3: {display_words(receptor_set)}, white = 1)":
-            np.where(seen[..., None], encode(paint(field.receptor, colours)), np.nan),
-        "human colours on the bee's geometry (map2)": paint(field.receptor, srgb),
-    }
+    maps = field_images(field.receptor, colours, srgb)
+    panels = {f"bee colours (map3: {display_words(receptor_set)}, white = 1)": maps["map3"],
+              "human colours on the bee's geometry (map2)": maps["map2"]}
     human = None if human_png is None else read_image(human_png)[0][..., :3]
     figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, human, outputs["figure"],
                          "visual field of both eyes, equirectangular")

@@ -24,7 +24,7 @@ from beeoptics.io.validation import config_default
 from beeoptics.light.scene import load_scene, raycasting_scene, relit
 from beeoptics.light.skypolarisation import patterns
 from beeoptics.pipeline.logs import log
-from beeoptics.pipeline.trace import trace_cones, trace_receptors
+from beeoptics.tracing import trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.spectra import grid
 from beeoptics.vision import compass as sky_compass

@@ -4,44 +4,19 @@ Each stage reads its inputs, calls the library and writes ``outputs``, a
 mapping of output names to paths, atomically.
 """
 
-import threading
-import time
-
 import numpy as np
 
-from beeoptics.eye.optics import acceptance_solid_angle
+from beeoptics.api import View, human_srgb, human_view as photograph, load_eye, load_scene, look
 from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 from beeoptics.io.imagefile import write_exr, write_png
-from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
-from beeoptics.io.validation import check_background, config_default
-from beeoptics.light.batching import trace_bundles
-from beeoptics.light.precision import adaptive_samples, neighbourhoods, replicate_samples
-from beeoptics.light.integrator import trace_paths
-from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
-from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
-from beeoptics.light.sky import white_radiance
-from beeoptics.pipeline.logs import log
-from beeoptics.replicates import standard_error
-from beeoptics.spectra import grid
-from beeoptics.vision.adaptation import background_catches
-from beeoptics.vision.catches import quantum_catches
-from beeoptics.vision.human import srgb, tristimulus
-from beeoptics.vision.receptorset import (DEFAULT_CURVES, brightness_weights, curves, lacking, ommatidium_names,
-                                          ommatidium_types)
-from beeoptics.vision.uncertainty import colour_columns
-
-#: The share of receptors meeting back faces that says an eye is enclosed: below a ground or inside a
-#: closed mesh every one does; among two-sided blades and petals about half do (58 % of the worker's in
-#: the generated meadow), so a bare majority would warn of every meadow.
-BACK_FACES_ENCLOSED = 0.9
-#: Percentile of the human view's luminance shown as white.
-HUMAN_WHITE_PERCENTILE = 99.0
+from beeoptics.io.validation import config_default
+from beeoptics.vision.receptorset import DEFAULT_CURVES
 
 
-def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, receptor_set, part=0, parts=1, light=None,
-               eye=None, progress=None, receptor_curves=DEFAULT_CURVES):
+def trace_part(receptors_csv, scene_file, outputs, *, spectral, trace, threads, receptor_set, part=0, parts=1,
+               light=None, progress=None, receptor_curves=DEFAULT_CURVES):
     """Trace the acceptance cones of one share of the receptors through a scene: ``outputs["radiance"]``.
 
     Receptors are split into ``parts`` contiguous shares, for running on
@@ -58,182 +33,27 @@ def trace_part(receptors_csv, scene_file, outputs, *, spectral, settings, recept
     ----------
     spectral : dict
         The config's ``spectral`` section (the grid, nm).
-    settings : TraceSettings
+    trace : dict
+        The config's ``trace`` section.
+    threads : int
+        Threads tracing.
     receptor_set : ReceptorSet
         The eye's receptor classes, whose catches each replicate gives.
     receptor_curves : str
         The receptor sensitivities (:func:`beeoptics.vision.receptorset.curves`).
-    light, eye : dict, optional
-        Overrides of the scene's light section (sweeps) and eye section (a flight's frame).
+    light : dict, optional
+        Overrides of the scene's light section (sweeps).
     progress : callable, optional
         Called with (receptors done, receptors in the share).
     """
-    wl = grid(**spectral)
-    scene = load_scene(scene_file, wl, light, eye)
-    table = read_receptors(receptors_csv)
-    bounds = np.linspace(0, len(table.id), parts + 1).round().astype(int)
-    first, last = bounds[part], bounds[part + 1]
-    errors = {}
-    radiance, counts = trace_receptors(scene, table, first, last, settings, len(wl), progress,
-                                       sensitivities=(wl, curves(receptor_set, wl, receptor_curves)), errors=errors)
+    scene = load_scene(scene_file, **spectral, **(light or {}))  # a scene without light refused before the eye is read
+    view = look(load_eye(receptors_csv, receptor_set=receptor_set), scene, trace=trace, threads=threads,
+                sensitivities=receptor_curves, part=part, parts=parts, progress=progress)
     with atomic_path(outputs["radiance"]) as tmp:
         # Uncompressed: zlib shrinks these spectra by 6 % and took a sixth of the stage's time.
-        np.savez(tmp, id=table.id[first:last], radiance=radiance, radiance_se=errors["radiance_se"],
-                 catches=errors["catches"], samples=errors["samples"])
-    return counts
-
-
-def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None, polarised=False,
-                    target=None, sensitivities=None, errors=None):
-    """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
-    and the ray counts, wall and CPU seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built.
-
-    ``polarised``: the spectral Stokes vectors instead, (last − first, 3, n_wavelengths), each in
-    the frame of the head's dorsal direction about the receptor's samples
-    (:func:`beeoptics.light.integrator.trace_paths`). ``target``, a sphere
-    (centre, radius; scene units): also the share of each receptor's
-    acceptance whose samples met it first, (last − first,), a third result.
-    ``sensitivities`` and ``errors``: as :func:`trace_cones` takes them."""
-    origins, axes = receptors_in_world(scene, table.position, table.axis)
-    rs = raycasting_scene(scene) if rs is None else rs
-    met, back = back_faces_met(rs, origins[first:last], axes[first:last])
-    if back > BACK_FACES_ENCLOSED * met:
-        log.warning("%.0f%% of the receptors whose axis meets a surface meet its back face (%d of %d): the eye "
-                    "may sit below the ground or inside a closed mesh; the scene's eye.position_m places it",
-                    100.0 * back / met, back, met)
-    log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
-             settings.depth, settings.threads)
-    # Each receptor draws the random numbers of its id, so that it is traced alike in any table that holds it.
-    out = trace_cones(scene, origins, axes, table.delta_rho_deg, np.asarray(table.id, np.int64), first, last,
-                      settings, n_wavelengths, progress, rs, scene.eye_rotation[:, 2] if polarised else None, target,
-                      sensitivities, errors)
-    counts = out[1]
-    log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
-             counts["shadow"], counts["seconds"])
-    return out
-
-
-def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, settings, n_wavelengths, progress=None,
-                rs=None, dorsal=None, target=None, sensitivities=None, errors=None):
-    """The mean spectral radiance of acceptance cones ``first``..``last`` at ``origins`` (m) along ``axes``,
-    and the ray counts, wall and CPU seconds, as :func:`trace_receptors` gives them.
-
-    Each cone is traced as independent replicates (:func:`beeoptics.light.precision.replicate_samples`),
-    its radiance their mean (:mod:`beeoptics.light.precision`): of ``settings.samples`` samples in all,
-    or, with ``settings.precision``, as many as the pilots of its neighbourhood (it and the cones nearest
-    it in axis and origin among all the ``origins``, :func:`beeoptics.light.precision.neighbourhoods`, so
-    that a share ``first``..``last`` takes the samples the whole would) say it needs for the precision
-    asked of its catches (of ``sensitivities``' classes, or without them of the radiance summed over the
-    grid).
-
-    Parameters
-    ----------
-    delta_rho_deg : ndarray (n,)
-        Each cone's acceptance angle.
-    streams : ndarray of int (n,)
-        Each cone's random-number stream: a cone of the same stream, origin
-        and axis is traced the same in any call.
-    dorsal : ndarray (3,) or (n, 3), optional
-        The head's dorsal direction, or one per cone: with it, Stokes vectors in its frame
-        (:func:`trace_receptors`' ``polarised``).
-    target : (ndarray, float or ndarray), optional
-        A sphere (centre, radius), or one per cone ((n, 3), (n,)): also each
-        cone's share that met it first, a third result.
-    sensitivities : (ndarray, ndarray), optional
-        The spectral grid (nm) and the receptor classes' sensitivities on it
-        (n_wavelengths, k), as :func:`respond` makes them: the catches of each
-        replicate (of the Stokes vector's intensity where polarised).
-    errors : dict, optional
-        Filled with each cone's ``radiance_se`` (the radiance's standard
-        error, the radiance's shape), ``samples`` (the samples of its
-        estimate, (n,); an adaptive trace's pilot of ``min_samples`` is
-        not among them) and, with ``sensitivities``, ``catches``: each replicate's catches
-        (n, replicates, k) over the acceptance solid angle, as
-        :func:`respond` computes them from the mean.
-    """
-    sigma = cone_sigma(delta_rho_deg)
-    rs = raycasting_scene(scene) if rs is None else rs
-    counts, counting = {"cast": 0, "shadow": 0}, threading.Lock()
-    start, cpu = time.perf_counter(), time.process_time()
-    centres = radii = None
-    if target is not None:
-        centres = np.broadcast_to(np.asarray(target[0], float), (len(origins), 3))
-        radii = np.broadcast_to(np.asarray(target[1], float), (len(origins),))
-
-    def trace(blocks):
-        b = blocks.bundle
-        dirs, weights = cone_samples(axes[b], delta_rho_deg[b], blocks.samples, settings.seed,
-                                     streams=streams[b], first_samples=blocks.first_sample)
-        cast = {}
-        radiance = trace_paths(scene, origins[b], dirs, weights, depth=settings.depth, seed=settings.seed,
-                               streams=streams[b], first_samples=blocks.first_sample, rs=rs, counts=cast,
-                               cones=(axes[b], sigma[b]),
-                               frames=None if dorsal is None else np.broadcast_to(dorsal, (len(origins), 3))[b],
-                               target=None if target is None else (centres[b], radii[b]),
-                               sky_sampling=settings.sky_sampling)
-        with counting:
-            for k, v in cast.items():
-                counts[k] += v
-        if target is not None:
-            # The share rides along as one more column, averaged over sample blocks as the radiance is.
-            radiance = np.column_stack([radiance[0].reshape(len(b), -1), radiance[1]])
-        return radiance.reshape(len(b), -1), weights.sum(axis=1)
-
-    stokes = 1 if dorsal is None else 3
-    columns = stokes * n_wavelengths + (target is not None)
-    omega = acceptance_solid_angle(np.broadcast_to(delta_rho_deg, (len(origins),)))
-
-    def catches(spectra, cones=slice(first, last)):
-        """Catches over the acceptance of radiance spectra (..., n_wavelengths) of ``cones``: the curves', or
-        without them a flat receptor's (the radiance summed over the grid)."""
-        irradiance = spectra * omega[cones].reshape(-1, *[1] * (spectra.ndim - 1))
-        if sensitivities is None:
-            return irradiance.sum(axis=-1, keepdims=True)
-        return quantum_catches(irradiance, sensitivities[1], sensitivities[0])
-
-    precision = settings.precision
-    if precision is None:
-        k, m = replicate_samples(settings.samples)
-        samples = np.full(last - first, m)
-        replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k), progress)
-    else:
-        # Stein's two stages (beeoptics.light.precision): the pilots of each cone's neighbourhood fix its
-        # samples, fresh replicates of them make its estimate. Of a Stokes vector, the intensity's catches decide.
-        k, m = replicate_samples(precision.min_samples)
-        # The pilot of every cone in the share's neighbourhoods, whichever share holds it: a cone's pilot
-        # draws the random numbers of its own stream, so a share sees the pilots any other share would.
-        near = neighbourhoods(origins, axes)[first:last]
-        cones, rows = np.unique(near, return_inverse=True)
-
-        def trace_pilot(blocks):
-            return trace(blocks._replace(bundle=cones[blocks.bundle]))
-
-        # The pilot's own K replicates (fewer than eight where min_samples is below eight), and no progress
-        # of its own: the bar follows the estimate's trace.
-        pilot = trace_bundles(trace_pilot, 0, len(cones), settings, columns, np.full(len(cones), m), range(k))
-        white = catches(np.broadcast_to(white_radiance(scene.sky, scene.sun, n_wavelengths),
-                                        (len(cones), n_wavelengths)), cones)
-        samples = adaptive_samples(catches(pilot[..., :n_wavelengths], cones), white, precision,
-                                   rows.reshape(near.shape))
-        replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k, 2 * k), progress)
-        log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
-                 k * samples.min(initial=0), k * samples.max(initial=0), k * samples.mean() if len(samples) else 0,
-                 k * m)
-    radiance = replicates.mean(axis=1)
-    cover = None
-    if target is not None:
-        radiance, cover, replicates = radiance[:, :-1], radiance[:, -1], replicates[..., :-1]
-    if errors is not None:
-        se = standard_error(replicates)
-        errors["radiance_se"] = se if dorsal is None else se.reshape(-1, stokes, n_wavelengths)
-        errors["samples"] = k * samples
-        if sensitivities is not None:
-            # Of the intensity, where the radiance is a Stokes vector: its first n_wavelengths columns.
-            errors["catches"] = catches(replicates[..., :n_wavelengths])
-    if dorsal is not None:
-        radiance = radiance.reshape(-1, stokes, n_wavelengths)
-    counts["seconds"], counts["cpu_seconds"] = time.perf_counter() - start, time.process_time() - cpu
-    return (radiance, counts) if target is None else (radiance, counts, cover)
+        np.savez(tmp, id=view.eye.table.id, radiance=view.radiance, radiance_se=view.radiance_se,
+                 catches=view.replicate_catches, samples=view.samples)
+    return view.counts
 
 
 def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral, receptor_set,
@@ -250,7 +70,7 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
         The adapting background of von Kries adaptation: ``"scene"``, the
         mean radiance catch of the receptors of both eyes, or the name of one
         of the scene's materials, as a Lambertian surface under the scene's
-        sky and sun (:func:`respond`).
+        sky and sun (:func:`beeoptics.tracing.respond`).
     receptor_set : ReceptorSet
         The eye's receptor classes (:mod:`beeoptics.vision.receptorset`).
     light : dict, optional
@@ -259,13 +79,11 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
         The receptor sensitivities: the species' own, the template, or a CSV of measured curves
         (:func:`beeoptics.vision.receptorset.curves`).
     """
-    wl = grid(**spectral)
-    table = read_receptors(receptors_csv)
+    eye = load_eye(receptors_csv, receptor_set=receptor_set)
     parts = [np.load(p) for p in part_npzs]
     ids = np.concatenate([p["id"] for p in parts])
-    if not np.array_equal(ids, table.id):
+    if not np.array_equal(ids, eye.table.id):
         raise InputError(part_npzs[0], "id", "the traced shares do not cover the receptor table in order")
-    scene = load_scene(scene_file, wl, light, geometry=False)
     for key in ("radiance_se", "catches", "samples"):
         if key not in parts[0]:
             raise InputError(part_npzs[0], key, "missing: the share was traced by an earlier version; trace it again")
@@ -273,120 +91,25 @@ def gather_responses(receptors_csv, scene_file, part_npzs, outputs, *, spectral,
     if replicate_catches.shape[2] != len(receptor_set.classes):
         raise InputError(part_npzs[0], "catches", f"{replicate_catches.shape[2]} receptor classes where the receptor "
                          f"set has {len(receptor_set.classes)}: the share was traced for another eye")
-    columns, arrays = respond(table, np.concatenate([p["radiance"] for p in parts]), scene, wl, scene_file,
-                              receptor_set=receptor_set, background=background, receptor_curves=receptor_curves,
-                              replicate_catches=replicate_catches)
     # Of the samples traced for the estimate; an adaptive trace's pilot is not among them (trace.precision).
-    columns["samples"] = np.concatenate([p["samples"] for p in parts])
-    write_table(outputs["responses"], columns)
+    view = View(eye, load_scene(scene_file, **spectral, geometry=False, **(light or {})),
+                np.concatenate([p["radiance"] for p in parts]), replicate_catches=replicate_catches,
+                samples=np.concatenate([p["samples"] for p in parts]), background=background,
+                sensitivities=receptor_curves)
+    write_table(outputs["responses"], view.columns)
     with atomic_path(outputs["irradiance"]) as tmp:
-        np.savez(tmp, id=table.id, wavelength_nm=wl, radiance_se=np.concatenate([p["radiance_se"] for p in parts]),
-                 **arrays)
+        np.savez(tmp, id=eye.table.id, wavelength_nm=view.wavelengths_nm,
+                 radiance_se=np.concatenate([p["radiance_se"] for p in parts]), **view.spectra)
 
 
-def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=config_default("colour.background"),
-            receptor_curves=DEFAULT_CURVES, replicate_catches=None):
-    """Every receptor's catches and colour coordinates from its spectral radiance (n, wavelengths) on the grid ``wl``.
-
-    Returns the responses table's columns (id, side, its acceptance solid
-    angle ``acceptance_sr``, a catch per class of ``receptor_set`` named as
-    the set names it (UV, B, G for a bee), the brightness where the set has
-    an overall sensitivity, colour-space coordinates) and the arrays of the
-    irradiance file:
-    ``radiance``, ``irradiance`` (float32), ``background_q`` (the adapting
-    catches), ``white_radiance`` (a white Lambertian surface under the
-    scene's sky and sun) and ``white_q`` (each receptor's catch of it,
-    map3's unity). See :func:`gather_responses` for ``background``.
-
-    Every column of colour is computed from the table's own columns: a
-    receptor adapts through its own acceptance, so that its Δρ moves none of
-    its colour coordinates. Its catch over ``acceptance_sr`` (a radiance
-    catch) is divided by the background's: for ``"scene"`` the mean of
-    that over the table's receptors that have the class, for a material
-    the radiance catch of that surface (``background_q``).
-
-    ``replicate_catches`` (n, K, classes), the trace's K independent
-    replicate estimates of each receptor's catches (:func:`trace_cones`):
-    with them, each catch and each colour column has its standard error
-    beside it, ``se_<column>`` (:func:`beeoptics.vision.uncertainty.colour_columns`;
-    empty where one replicate gives none, or the receptor lacks the class).
-    """
-    omega = acceptance_solid_angle(table.delta_rho_deg)
-    sens = curves(receptor_set, wl, receptor_curves)
-    irradiance = radiance * omega[:, None]
-    catches = quantum_catches(irradiance, sens, wl)
-    types = ommatidium_types(receptor_set, len(table.id))
-    catches[lacking(receptor_set, types)] = np.nan
-    seen = catches / omega[:, None]
-    # A white Lambertian surface under the scene's sky and sun: what a named
-    # background reflects, and the photon flux of the spectral locus's lights.
-    white = white_radiance(scene.sky, scene.sun, len(wl))
-    surface = None
-    if background != "scene":
-        check_background(scene_file, background, scene_file, "materials")
-        surface = scene.reflectance[scene.material_names.index(background)] * white
-    reference = background_catches(seen, sens, wl, surface)
-    if not (reference > 0.0).all():
-        raise InputError(scene_file, "colour.background",
-                         f"the background {background!r} gives no catch in some receptor class; "
-                         "von Kries adaptation needs a background every class sees")
-    columns = {"id": table.id, "side": table.side}
-    if types is not None:
-        columns["ommatidium"] = ommatidium_names(receptor_set, types)
-    columns["acceptance_sr"] = omega
-    if replicate_catches is not None:
-        replicate_catches = np.where(np.isnan(catches)[:, None, :], np.nan, replicate_catches)
-    se = None if replicate_catches is None else standard_error(replicate_catches)
-    for k, r in enumerate(receptor_set.classes):
-        columns[r] = catches[:, k]
-        if se is not None:
-            columns[f"se_{r}"] = se[:, k]
-    weights = brightness_weights(receptor_set, wl, sens)
-    if weights is not None:
-        columns["brightness"] = catches @ weights
-    columns.update(colour_columns(seen, reference, receptor_set,
-                                  None if replicate_catches is None else replicate_catches / omega[:, None, None]))
-    # What each receptor would catch of the white surface: map3's unity.
-    white_q = quantum_catches(white[None] * omega[:, None], sens, wl)
-    return columns, {"radiance": radiance.astype(np.float32), "irradiance": irradiance.astype(np.float32),
-                     "background_q": reference, "white_radiance": white, "white_q": white_q}
-
-
-def human_view(scene_file, outputs, *, spectral, settings):
+def human_view(scene_file, outputs, *, spectral, trace, threads, samples):
     """What a person sees of a scene through its pinhole camera: ``outputs["png"]`` and ``["exr"]``.
 
-    Traced like the receptors (``settings.samples`` rays per pixel), then
-    mapped through the CIE 1931 observer to sRGB (PNG, the 99th percentile
-    of luminance as white) and written as linear XYZ (EXR, channels ``X``,
-    ``Y``, ``Z``).
+    Traced like the receptors (``samples`` rays per pixel, the config's
+    ``trace`` section otherwise), then mapped through the CIE 1931 observer
+    to sRGB (PNG, the 99th percentile of luminance as white) and written as
+    linear XYZ (EXR, channels ``X``, ``Y``, ``Z``).
     """
-    wl = grid(**spectral)
-    scene = load_scene(scene_file, wl)
-    xyz = render_human(scene, scene.camera, settings, wl)
+    xyz = photograph(load_scene(scene_file, **spectral), samples=samples, trace=trace, threads=threads)
     write_png(outputs["png"], human_srgb(xyz))
     write_exr(outputs["exr"], xyz, ("X", "Y", "Z"))
-
-
-def render_human(scene, camera, settings, wavelengths, rs=None):
-    """The CIE 1931 XYZ image (height, width, 3) of ``scene`` through a pinhole ``camera`` (a scene's
-    ``camera`` section), ``settings.samples`` rays a pixel; ``rs``, the scene's Embree scene if built."""
-    origin, dirs = pinhole_rays(camera, settings.samples, settings.seed)
-    rs = raycasting_scene(scene) if rs is None else rs
-
-    def trace(blocks):
-        ones = np.ones((len(blocks.bundle), blocks.samples))
-        return trace_paths(scene, np.broadcast_to(origin, (len(blocks.bundle), 3)),
-                           dirs[blocks.bundle[:, None], blocks.first_sample[:, None] + np.arange(blocks.samples)], ones,
-                           depth=settings.depth, seed=settings.seed, streams=blocks.bundle,
-                           first_samples=blocks.first_sample, rs=rs), ones.sum(axis=1)
-
-    # A pixel is one replicate of all its samples: an image carries no errors, and its rays were drawn at once.
-    radiance = trace_bundles(trace, 0, len(dirs), settings, len(wavelengths), np.full(len(dirs), settings.samples),
-                             range(1))[:, 0]
-    xyz = tristimulus(wavelengths, radiance)
-    return xyz.reshape(camera["height_px"], camera["width_px"], 3)
-
-
-def human_srgb(xyz):
-    """A human view's display sRGB in [0, 1]: the :data:`HUMAN_WHITE_PERCENTILE` of luminance as white."""
-    return srgb(xyz, np.percentile(xyz[..., 1], HUMAN_WHITE_PERCENTILE))

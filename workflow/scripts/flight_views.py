@@ -1,4 +1,3 @@
-from beeoptics.light.batching import TraceSettings
 from beeoptics.pipeline.flights import flight_views
 from beeoptics.pipeline.logs import log, logging_to
 from beeoptics.vision.receptorset import receptor_set_of
@@ -6,9 +5,7 @@ from beeoptics.vision.receptorset import receptor_set_of
 with logging_to(snakemake.log[0]):
     done = flight_views(snakemake.input.receptors, snakemake.params.scene, snakemake.input.flight,
                         snakemake.input.human, snakemake.output, fps=snakemake.params.fps,
-                        spectral=snakemake.params.spectral,
-                        settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads,
-                                                           receptor_set=receptor_set_of(snakemake.params.eye)),
+                        spectral=snakemake.params.spectral, trace=snakemake.params.trace, threads=snakemake.threads,
                         receptor_set=receptor_set_of(snakemake.params.eye),
                         receptor_curves=snakemake.params.receptor_curves, width_px=snakemake.params.width_px,
                         title=f"{snakemake.wildcards.eye} along {snakemake.wildcards.flight}: views")
