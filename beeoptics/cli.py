@@ -314,10 +314,10 @@ def daylight(args):
     on an unshaded horizontal surface, W m⁻² nm⁻¹, for pavo's or
     micaToolbox's illuminant.
     """
-    from beeoptics.light.daylight import clear_sky, write_daylight
     from beeoptics.light.materials import ground_albedo
     from beeoptics.light.scene import load_scene
-    from beeoptics.light.sky import horizontal_irradiance
+    from beeoptics.sky.daylight import clear_sky, write_daylight
+    from beeoptics.sky.dome import horizontal_irradiance
     from beeoptics.spectra import grid
 
     wl = grid(**settings(args)["spectral"])
@@ -346,9 +346,9 @@ def meadow(args):
     Prints the triangles of each species and the colour of every part, for
     the palette of the scene that places the mesh.
     """
+    from beeoptics.pipeline.world import generate_meadow
     from beeoptics.world.meadow import read_meadow
     from beeoptics.world.species import species_table
-    from beeoptics.pipeline.world import generate_meadow
 
     counts = generate_meadow(args.meadow_file, {"mesh": args.output, **({"flowers": args.flowers} if args.flowers
                                                                        else {})})

@@ -21,13 +21,14 @@ ALLOWED = {
     "spectra": {"io"},
     "eye": {"eye", "io", *SHARED},
     "world": {"world", "io", *SHARED},
-    "light": {"light", "eye", "io", *SHARED},
+    "sky": {"sky", "io", *SHARED},
+    "light": {"light", "sky", "eye", "io", *SHARED},
     "vision": {"vision", "io", *SHARED},
-    "images": {"images", "vision", "light", "eye", "io", *SHARED},
-    "pipeline": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
-    "cli": {"pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    "images": {"images", "vision", "light", "sky", "eye", "io", *SHARED},
+    "pipeline": {"pipeline", "images", "vision", "light", "sky", "eye", "world", "io", *SHARED},
+    "cli": {"pipeline", "images", "vision", "light", "sky", "eye", "world", "io", *SHARED},
     # The Python API: the front door over the stages, reading other formats of receptors as the tool does.
-    "api": {"cli", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    "api": {"cli", "pipeline", "images", "vision", "light", "sky", "eye", "world", "io", *SHARED},
 }
 
 

@@ -16,18 +16,18 @@ from beeoptics.eye.fieldofview import visual_field
 from beeoptics.headframe import LEFT, eye_azimuth_elevation
 from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode, map3
-from beeoptics.images.viewer import flight_viewer
 from beeoptics.images.fieldmaps import paint
+from beeoptics.images.viewer import flight_viewer
 from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.imagefile import write_gif, write_mp4
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import config_default
 from beeoptics.light.scene import bee_camera, load_scene, posed, raycasting_scene, receptors_in_world
-from beeoptics.light.sky import white_radiance
 from beeoptics.pipeline.images import display_words
 from beeoptics.pipeline.trace import human_srgb, render_human, respond, trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
+from beeoptics.sky.dome import white_radiance
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background

@@ -23,10 +23,10 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene
-from beeoptics.light.skypolarisation import patterns
 from beeoptics.pipeline.eyes import build_facets, remesh_eye
 from beeoptics.pipeline.outputs import FACET_OUTPUTS
 from beeoptics.pipeline.trace import render_human, trace_receptors
+from beeoptics.sky.skypolarisation import patterns
 from beeoptics.spectra import grid
 
 #: The toy eye: a cap of a sphere 0.8 mm in radius, 300 facets of 40–46 µm (test values, no insect's).

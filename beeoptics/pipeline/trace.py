@@ -17,13 +17,13 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import check_background, config_default
 from beeoptics.light.batching import trace_bundles
-from beeoptics.light.precision import adaptive_samples, replicate_samples
 from beeoptics.light.integrator import trace_paths
+from beeoptics.light.precision import adaptive_samples, replicate_samples
 from beeoptics.light.scene import back_faces_met, load_scene, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
-from beeoptics.light.sky import white_radiance
 from beeoptics.pipeline.logs import log
 from beeoptics.replicates import standard_error
+from beeoptics.sky.dome import white_radiance
 from beeoptics.spectra import grid
 from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
