@@ -7,7 +7,8 @@ receptors' catches are turned into images and tables of what the bee sees.
 
 Data flows one way through the subpackages, each importing only those
 before it: :mod:`beeoptics.eye` (eyes and their receptors) →
-:mod:`beeoptics.light` (scenes, daylight and the tracer) →
+:mod:`beeoptics.sky` (daylight, the sun and the sky) →
+:mod:`beeoptics.light` (scenes and the tracer) →
 :mod:`beeoptics.vision` (catches and colour spaces) →
 :mod:`beeoptics.images` (what people are shown). :mod:`beeoptics.io` (files)
 lies under all of them and :mod:`beeoptics.pipeline` (the workflow's stages)

@@ -31,15 +31,15 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors, rows_of
 from beeoptics.io.validation import (CONFIG_SCHEMA, check_background, config_default, load_yaml, validate,
                                      validate_config)
-from beeoptics.light import scene as scenes
-from beeoptics.light.batching import TraceSettings
-from beeoptics.light.scenecache import cache_root, code_digest, file_digest
-from beeoptics.light.sky import white_radiance
 from beeoptics.images.display import bee_colours
 from beeoptics.images.fieldmaps import field_images
 from beeoptics.images.retina import retinal_images
+from beeoptics.light import scene as scenes
+from beeoptics.light.batching import TraceSettings
+from beeoptics.light.scenecache import cache_root, code_digest, file_digest
 from beeoptics.pipeline.outputs import channel, retinal_images as retinal_outputs
 from beeoptics.raycasting import first_hits
+from beeoptics.sky.dome import white_radiance
 from beeoptics.spectra import grid
 from beeoptics.tracing import human_srgb, render_human, respond, trace_cones, trace_receptors
 from beeoptics.vision.catches import quantum_catches

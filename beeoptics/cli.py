@@ -275,9 +275,9 @@ def daylight(args):
     micaToolbox's illuminant.
     """
     from beeoptics.api import load_scene
-    from beeoptics.light.daylight import clear_sky, write_daylight
     from beeoptics.light.materials import ground_albedo
-    from beeoptics.light.sky import horizontal_irradiance
+    from beeoptics.sky.daylight import clear_sky, write_daylight
+    from beeoptics.sky.dome import horizontal_irradiance
     from beeoptics.spectra import grid
 
     spectral = settings(args)["spectral"]

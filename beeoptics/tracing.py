@@ -19,8 +19,8 @@ from beeoptics.light.integrator import trace_paths
 from beeoptics.light.precision import adaptive_samples, neighbourhoods, replicate_samples
 from beeoptics.light.scene import back_faces_met, raycasting_scene, receptors_in_world
 from beeoptics.light.sensors import cone_samples, cone_sigma, pinhole_rays
-from beeoptics.light.sky import white_radiance
 from beeoptics.replicates import standard_error
+from beeoptics.sky.dome import white_radiance
 from beeoptics.vision.adaptation import background_catches
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.human import srgb, tristimulus

@@ -5,7 +5,7 @@ global horizontal irradiance of the scene's sky and sun as the tracer sees
 them (the sky dome integrated over the hemisphere, plus the sun's disc):
 its UV/VIS photon ratio and UV/G catch ratio (Peitsch et al. 1992) beside
 the 10, 50 and 90th percentiles of the measured records like it
-(:mod:`beeoptics.light.daylightrecords`); how many of Granada's records
+(:mod:`beeoptics.sky.daylightrecords`); how many of Granada's records
 lie inside both data sets' ranges at once; then the diffuse irradiance
 Hosek & Wilkie's own model gives, per channel, as a ratio to SPECTRL2's.
 The last line is the same as one JSON object (``suns``: per elevation,
@@ -19,13 +19,13 @@ import argparse
 import numpy as np
 
 from beeoptics.headframe import direction_from_x_towards_y
-from beeoptics.light import hosekwilkie
-from beeoptics.light.daylight import clear_sky
-from beeoptics.light.daylightrecords import (GRANADA_TOLERANCE, SPITSCHAN_FROM_NM, clear_like, granada,
+from beeoptics.sky import hosekwilkie
+from beeoptics.sky.daylight import clear_sky
+from beeoptics.sky.daylightrecords import (GRANADA_TOLERANCE, SPITSCHAN_FROM_NM, clear_like, granada,
                                              measured_ranges, uv_ratios)
 from beeoptics.light.materials import ground_albedo
-from beeoptics.light.sky import _hemisphere, clear_sky_dome, horizontal_irradiance
-from beeoptics.light.sun import sun_disc
+from beeoptics.sky.dome import _hemisphere, clear_sky_dome, horizontal_irradiance
+from beeoptics.sky.sun import sun_disc
 from beeoptics.spectra import grid
 from beeoptics.vision.receptorset import curves, load_receptor_set
 from record import record

@@ -21,20 +21,21 @@ ALLOWED = {
     "spectra": {"io"},
     "eye": {"eye", "io", *SHARED},
     "world": {"world", "io", *SHARED},
-    "light": {"light", "eye", "io", *SHARED},
+    "sky": {"sky", "io", *SHARED},
+    "light": {"light", "sky", "eye", "io", *SHARED},
     "vision": {"vision", "io", *SHARED},
-    "images": {"images", "vision", "light", "eye", "io", *SHARED},
+    "images": {"images", "vision", "light", "sky", "eye", "io", *SHARED},
     # (tracing only until the stages NOT_YET names reach it through the API.) The navigation stage reads its maps
     # and eyes through the API's records and calls beeoptics.navigation.
-    "pipeline": {"pipeline", "api", "tracing", "navigation", "images", "vision", "light", "eye", "world", "io",
+    "pipeline": {"pipeline", "api", "tracing", "navigation", "images", "vision", "light", "sky", "eye", "world", "io",
                  *SHARED},
-    "cli": {"pipeline", "api", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    "cli": {"pipeline", "api", "images", "vision", "light", "sky", "eye", "world", "io", *SHARED},
     # The tracer's entry points, which only the API calls (test_stages_reach_the_tracer_through_the_api).
-    "tracing": {"vision", "light", "eye", "io", *SHARED},
+    "tracing": {"vision", "light", "sky", "eye", "io", *SHARED},
     # Views for navigation: maps traced by the receptors' tracer, resampled to eyes.
-    "navigation": {"navigation", "tracing", "vision", "light", "eye", "io", *SHARED},
+    "navigation": {"navigation", "tracing", "vision", "light", "sky", "eye", "io", *SHARED},
     # The Python API, the stages' one way to the tracer: it builds an eye and a meadow as their stages do.
-    "api": {"tracing", "navigation", "pipeline", "images", "vision", "light", "eye", "world", "io", *SHARED},
+    "api": {"tracing", "navigation", "pipeline", "images", "vision", "light", "sky", "eye", "world", "io", *SHARED},
     # The closed loop: an agent's moves and what the API's looks show it, casting its steps into the scene.
     "loop": {"api", "io", *SHARED},
 }

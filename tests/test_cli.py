@@ -127,8 +127,8 @@ def test_the_installed_script_renders_the_same_bytes_again(built, rendered, tmp_
 
 
 def test_daylight_writes_clear_sky_irradiance_in_pavos_layout(tmp_path, capsys):
-    from beeoptics.light.daylight import clear_sky
     from beeoptics.light.materials import ground_albedo
+    from beeoptics.sky.daylight import clear_sky
 
     out = tmp_path / "daylight.csv"
     code, text, _ = call(capsys, "daylight", "--sun-elevation-deg", 30, "--turbidity", 2, "--ground", "snow",
@@ -146,7 +146,7 @@ def test_daylight_writes_clear_sky_irradiance_in_pavos_layout(tmp_path, capsys):
 
 def test_daylight_writes_a_scenes_light_as_it_lights_the_ground(tmp_path, capsys):
     from beeoptics.light.scene import load_scene
-    from beeoptics.light.sky import horizontal_irradiance
+    from beeoptics.sky.dome import horizontal_irradiance
 
     out = tmp_path / "light.csv"
     assert call(capsys, "daylight", "--scene", FLOWER, "-o", out)[0] == 0

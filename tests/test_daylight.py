@@ -5,10 +5,10 @@ import importlib.util
 import numpy as np
 import pytest
 
-from beeoptics.light.daylight import clear_sky
 from beeoptics.light.materials import ground_albedo
-from beeoptics.light.sky import clear_sky_dome, horizontal_irradiance
-from beeoptics.light.sun import sun_disc
+from beeoptics.sky.daylight import clear_sky
+from beeoptics.sky.dome import clear_sky_dome, horizontal_irradiance
+from beeoptics.sky.sun import sun_disc
 from beeoptics.vision.receptorset import curves, load_receptor_set
 
 # The scene light's UV/VIS photon ratio and UV/G catch ratio (Peitsch et al. 1992) at
@@ -23,7 +23,7 @@ PINNED = {10: (0.0695, 0.2759, 0.0445, 0.1628), 30: (0.0636, 0.2448, 0.0402, 0.1
 def ranges(wavelengths):
     if importlib.util.find_spec("dreye") is None:
         pytest.skip("the measured daylight ships in dreye (pip install --no-deps dreye)")
-    from beeoptics.light.daylightrecords import measured_ranges
+    from beeoptics.sky.daylightrecords import measured_ranges
 
     grass = ground_albedo("grass", wavelengths, "test", "grass")
     out = {}
@@ -62,8 +62,8 @@ def test_daylight_has_the_uv_of_measured_daylight(ranges, elevation):
 def test_a_measured_daylight_as_a_uniform_sky_gives_its_records_irradiance(wavelengths, tmp_path):
     if importlib.util.find_spec("dreye") is None:
         pytest.skip("the measured daylight ships in dreye (pip install --no-deps dreye)")
-    from beeoptics.light.daylightrecords import granada
     from beeoptics.light.scene import load_scene
+    from beeoptics.sky.daylightrecords import granada
     from conftest import write_scene
 
     path = write_scene(tmp_path / "scene.yaml", {

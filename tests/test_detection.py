@@ -10,9 +10,9 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table, write_table
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene, raycasting_scene
-from beeoptics.light.sky import horizontal_irradiance
 from beeoptics.pipeline.detection import approach_poses, detect_views, summarise
 from beeoptics.replicates import T95
+from beeoptics.sky.dome import horizontal_irradiance
 from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background, unmix

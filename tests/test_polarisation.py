@@ -7,8 +7,8 @@ from beeoptics.headframe import direction_from_x_towards_y, microvillar_angle
 from beeoptics.light import mueller
 from beeoptics.light.integrator import trace_paths
 from beeoptics.light.scene import load_scene
-from beeoptics.light.hosekwilkie import CHANNELS_NM
-from beeoptics.light.skypolarisation import (degree, depolarisation_factor, king_factor, max_degree, neutral_points_deg,
+from beeoptics.sky.hosekwilkie import CHANNELS_NM
+from beeoptics.sky.skypolarisation import (degree, depolarisation_factor, king_factor, max_degree, neutral_points_deg,
                                               polarisations, sky_polarisation)
 from beeoptics.vision import compass
 from beeoptics.vision.polarisation import degree_and_angle, head_frame_stokes, receptor_catch

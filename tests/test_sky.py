@@ -2,12 +2,12 @@ import numpy as np
 import pytest
 
 from beeoptics.headframe import direction_from_x_towards_y
-from beeoptics.light import hosekwilkie
-from beeoptics.light.daylight import clear_sky
-from beeoptics.light.emitters import sample_sky, sky_table
 from beeoptics.light.materials import ground_albedo
-from beeoptics.light.sky import CLEAR_SKIES, clear_sky_dome, horizontal_irradiance, sky_coefficients, uniform_sky
-from beeoptics.light.sun import sun_disc
+from beeoptics.sky import hosekwilkie
+from beeoptics.sky.daylight import clear_sky
+from beeoptics.sky.dome import CLEAR_SKIES, clear_sky_dome, horizontal_irradiance, sky_coefficients, uniform_sky
+from beeoptics.sky.sampling import sample_sky, sky_table
+from beeoptics.sky.sun import sun_disc
 
 
 @pytest.fixture(scope="module")

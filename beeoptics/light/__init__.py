@@ -1,11 +1,10 @@
-"""Light: the scene and its materials, the sky and the sun, and the spectral tracer.
+"""Light: the scene and its materials, and the spectral tracer.
 
 The tracer follows the split of Mitsuba 3 and pbrt-v4: the sampler
 (:mod:`.sampler`), the sensors that start rays (:mod:`.sensors`: receptor
 cones, the pinhole camera), surface scattering (:mod:`.scattering`), the
-emitters (:mod:`.emitters`, with the sky and sun of :mod:`.sky` and
-:mod:`.sun`, lit by the clear-sky daylight of :mod:`.daylight`, shaped by
-:mod:`.hosekwilkie` and polarised by :mod:`.skypolarisation`), polarised light's
+emitters (:mod:`.emitters`: the sky and the sun of :mod:`beeoptics.sky`, and
+glowing materials), polarised light's
 frames and Mueller matrices (:mod:`.mueller`) and the integrator that joins them (:mod:`.integrator`),
 traced in batches on threads (:mod:`.batching`), each receptor as independent replicates whose
 spread is its error, to the precision asked (:mod:`.precision`); what lies between two
@@ -20,14 +19,6 @@ __all__, __getattr__ = exports(__name__, {
               "posed", "receptors_in_world", "relit"),
     "materials": ("ground_albedo", "material", "spectrum"),
     "fred": ("catalogue", "find", "matching", "median_reflectance", "reflectance"),
-    "daylight": ("Daylight", "angstrom_beta", "clear_sky", "write_daylight"),
-    "hosekwilkie": ("CHANNELS_NM", "channel_radiance", "channel_shape", "channel_weights", "shape_radiance"),
-    "sky": ("CLEAR_SKIES", "Sky", "cie_daylight", "clear_sky_dome", "horizontal_irradiance", "luminance",
-            "sky_coefficients", "uniform_sky", "white_radiance"),
-    "skypolarisation": ("MODELS", "basis_depolarisation", "degree", "depolarisation_factor", "king_factor",
-                        "max_degree", "neutral_points_deg", "patterns", "polarisation", "polarisations",
-                        "sky_polarisation"),
-    "sun": ("Sun", "sun_disc"),
     "mueller": ("depolarise", "double_angle", "fresnel", "plane_normal", "reflect", "reflect_column"),
     "sampler": ("around", "shifted_halton", "tangent_frame", "tangent_frames", "uniform", "uniform1"),
     "sensors": ("cone_density", "cone_samples", "cone_sigma", "pinhole_rays"),

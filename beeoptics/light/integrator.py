@@ -84,15 +84,16 @@ from typing import NamedTuple
 import numpy as np
 
 from beeoptics.jit import NumbaModule, kernel, stage
-from beeoptics.light.emitters import LightArrays, Lights, sample_sky, sample_sun, sky_density, sky_table
-from beeoptics.light.hosekwilkie import shape_radiance
+from beeoptics.light.emitters import LightArrays, Lights, sample_sun
 from beeoptics.light.mueller import depolarise, double_angle, plane_normal, reflect, reflect_column
 from beeoptics.light.sampler import STREAMS, shifted_halton, tangent_frames, uniform1
 from beeoptics.light.scattering import SurfaceArrays, Surfaces, glossy_share, lobes, scatter
 from beeoptics.light.scene import raycasting_scene
-from beeoptics.light.skypolarisation import degree, polarisation
 from beeoptics.light.sensors import Cones, cone_density
 from beeoptics.raycasting import first_hits, occluded
+from beeoptics.sky.hosekwilkie import shape_radiance
+from beeoptics.sky.sampling import sample_sky, sky_density, sky_table
+from beeoptics.sky.skypolarisation import degree, polarisation
 
 #: Ray origins leave a surface by this fraction of the scene's size.
 OFFSET = 1e-7
@@ -791,7 +792,7 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     sky_sampling : {"nee", "escape"}
         ``nee`` (the default): the sky is also sampled from every surface,
         by next-event estimation from its table of its light above its mean
-        (:func:`beeoptics.light.emitters.sky_table`; none for a uniform sky),
+        (:func:`beeoptics.sky.sampling.sky_table`; none for a uniform sky),
         weighed against the surface's own sampling by multiple importance
         sampling; ``escape``: a path sees the sky only where it escapes the scene.
 
@@ -917,7 +918,7 @@ def _light_arrays(scene, lights, nee):
 
 
 def _sky_table(sky, spectra):
-    """The sky's sampling table (:func:`beeoptics.light.emitters.sky_table`), made once per sky."""
+    """The sky's sampling table (:func:`beeoptics.sky.sampling.sky_table`), made once per sky."""
     if sky is None:
         return np.zeros(2), np.zeros((1, 2)), np.zeros((1, 1))
     key = (sky.sun.tobytes(), sky.shape.tobytes(), float(sky.cos_floor), float(sky.cos_offset), bool(sky.hemisphere),

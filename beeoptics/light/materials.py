@@ -29,7 +29,7 @@ A spectrum in a scene file is one of:
 ``{measured_daylight: {granada: 1234}}`` or ``{measured_daylight: {spitschan: 42}}``
     The radiance of a uniform sky over the upper hemisphere that gives one
     measured record's global irradiance (E/π): for ``light: {sky: uniform,
-    hemisphere: true, radiance: …}`` (:mod:`beeoptics.light.daylightrecords`;
+    hemisphere: true, radiance: …}`` (:mod:`beeoptics.sky.daylightrecords`;
     Spitschan et al.'s records start at 360 nm, so the grid must too).
 
 A material is ``{reflectance: <spectrum>, coating: {roughness: α,
@@ -86,10 +86,11 @@ from pathlib import Path
 
 import numpy as np
 
-from beeoptics.light import daylightrecords, fred
 from beeoptics.io.errors import InputError
+from beeoptics.light import fred
 from beeoptics.light.coating import albedo_table, base_albedo, through
-from beeoptics.light.sky import cie_daylight
+from beeoptics.sky import daylightrecords
+from beeoptics.sky.dome import cie_daylight
 from beeoptics.spectra import read_pavo_csv
 
 #: A glossy surface's refractive index unless its material gives one: a leaf's surface at 550 nm in

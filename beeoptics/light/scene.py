@@ -4,7 +4,7 @@ The format is described in ``beeoptics/io/schemas/scene.schema.yaml`` and in
 the README. In short: metres, world +z up, azimuths from +x towards +y;
 ``light`` sets the sky (``hosek_wilkie``, ``preetham``, ``uniform`` or
 ``none``) and the sun (elevation, azimuth, turbidity, the ground's albedo,
-the day of the year; :mod:`beeoptics.light.daylight`); ``eye`` places the bee's head (position,
+the day of the year; :mod:`beeoptics.sky.daylight`); ``eye`` places the bee's head (position,
 heading, pitch); ``camera`` a pinhole for the human view; ``materials``
 name spectral materials (:mod:`beeoptics.light.materials`); ``objects`` are
 meshes (read with pymeshlab: PLY, OBJ, glTF, STL, OFF) or primitives, each
@@ -22,17 +22,17 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from beeoptics.headframe import head_rotation
-from beeoptics.io.errors import InputError
 from beeoptics.io import provenance
+from beeoptics.io.errors import InputError
 from beeoptics.io.imagefile import read_image
 from beeoptics.io.meshfile import read_mesh
 from beeoptics.io.validation import load_yaml, validate
-from beeoptics.light.daylight import clear_sky
 from beeoptics.light import scenecache
 from beeoptics.light.materials import material, spectrum
-from beeoptics.light.sky import CLEAR_SKIES, Sky, clear_sky_dome, luminance, uniform_sky
-from beeoptics.light.sun import Sun, sun_disc
 from beeoptics.raycasting import embree_scene, first_hits, open3d
+from beeoptics.sky.daylight import clear_sky
+from beeoptics.sky.dome import CLEAR_SKIES, Sky, clear_sky_dome, luminance, uniform_sky
+from beeoptics.sky.sun import Sun, sun_disc
 
 log = logging.getLogger("beeoptics")
 #: A bee's scene is metres across: a meadow patch of a few, a pond, a board of patches (the ground planes that

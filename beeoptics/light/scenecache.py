@@ -59,7 +59,7 @@ log = logging.getLogger("beeoptics")
 
 #: The package's code and data that read and make a scene, the cache's own layout among them (its files, or
 #: folders of files): their contents are part of every key.
-CODE = ("io", "light", "spectra.py")
+CODE = ("io", "light", "sky", "spectra.py")
 #: Packages whose installed data a scene's spectra may read.
 DATA_PACKAGES = ("dreye",)
 #: Entries kept: when one more is written, the least recently used beyond these are removed (scenes, lights).

@@ -23,11 +23,11 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import config_defaults
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scene import load_scene
-from beeoptics.light.skypolarisation import patterns
 from beeoptics.pipeline.eyes import build_facets, remesh_eye
 from beeoptics.pipeline.outputs import FACET_OUTPUTS
-from beeoptics.tracing import render_human, trace_receptors
+from beeoptics.sky.skypolarisation import patterns
 from beeoptics.spectra import grid
+from beeoptics.tracing import render_human, trace_receptors
 
 #: The toy eye: a cap of a sphere 0.8 mm in radius, 300 facets of 40–46 µm (test values, no insect's).
 EYE = {"name": "toy", "description": "A toy eye, only to compile the kernels.", "mesh": "mesh.obj",

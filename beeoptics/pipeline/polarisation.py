@@ -9,8 +9,8 @@ import json
 import numpy as np
 
 from beeoptics.eye.description import load_eye
-from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
+from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.headframe import head_rotation, in_eye_plane
 from beeoptics.images import figures
 from beeoptics.images.display import polarisation_colours
@@ -22,10 +22,10 @@ from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import config_default
 from beeoptics.light.scene import load_scene, raycasting_scene, relit
-from beeoptics.light.skypolarisation import patterns
 from beeoptics.pipeline.logs import log
 from beeoptics.tracing import trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
+from beeoptics.sky.skypolarisation import patterns
 from beeoptics.spectra import grid
 from beeoptics.vision import compass as sky_compass
 from beeoptics.vision.catches import quantum_catches

@@ -8,7 +8,7 @@ from Rayleigh and aerosol scattering plus the light bounced between ground
 and sky. The scene's turbidity T is Preetham et al.'s (1999), the one the
 sky-dome models take, turned into Ångström's β by their relation; the
 aerosol's wavelength exponent is SPECTRL2's rural one. The sun and the sky
-dome of a scene (:mod:`beeoptics.light.sun`, :mod:`beeoptics.light.sky`)
+dome of a scene (:mod:`beeoptics.sky.sun`, :mod:`beeoptics.sky.dome`)
 are scaled to these irradiances wavelength by wavelength.
 
 Spectral irradiance is in W m⁻² nm⁻¹, on SPECTRL2's own grid (about

@@ -3,7 +3,7 @@
 The sun is a disc of the solid angle Preetham et al. used (the sun,
 1.39·10⁶ km across, seen from 1.5·10⁸ km), of uniform radiance: the
 direct normal irradiance of the clear-sky model
-(:mod:`beeoptics.light.daylight`, SPECTRL2) spread over that disc.
+(:mod:`beeoptics.sky.daylight`, SPECTRL2) spread over that disc.
 
 Spectral radiance is in W m⁻² sr⁻¹ nm⁻¹.
 

@@ -13,7 +13,7 @@ with θ the view's zenith angle, γ its angle from the sun, and L_M the
 channel's mean radiance (W m⁻² sr⁻¹ nm⁻¹). Each coefficient is a quintic
 Bézier curve in (solar elevation / 90°)^{1/3}, interpolated linearly in
 turbidity and ground albedo (their paper, section 5; the coefficient
-tables are ``light/data/sky_hosek_wilkie2012.csv``, BSD licence). Between
+tables are ``sky/data/sky_hosek_wilkie2012.csv``, BSD licence). Between
 channels the radiance is interpolated linearly in wavelength, as in the
 authors' reference implementation; outside 320–720 nm each end channel's
 distribution is kept.

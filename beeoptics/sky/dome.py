@@ -1,13 +1,13 @@
-"""The sky dome, as spectral radiance from 300 nm (the sun is :mod:`beeoptics.light.sun`).
+"""The sky dome, as spectral radiance from 300 nm (the sun is :mod:`beeoptics.sky.sun`).
 
 Three skies are offered. ``uniform`` has the same radiance in every
 direction of the whole sphere (for tests, an overcast sky or a measured
 daylight spectrum), or of the upper hemisphere when ``hemisphere`` is set.
 The two clear skies take the diffuse irradiance of a clear-sky spectral
-model (:mod:`beeoptics.light.daylight`, SPECTRL2) and spread it over the
+model (:mod:`beeoptics.sky.daylight`, SPECTRL2) and spread it over the
 upper hemisphere, wavelength by wavelength, the way a sky-dome model does:
 ``hosek_wilkie`` by Hosek & Wilkie's (2012) spectral model, whose
-distribution changes with wavelength (:mod:`beeoptics.light.hosekwilkie`),
+distribution changes with wavelength (:mod:`beeoptics.sky.hosekwilkie`),
 ``preetham`` by the Perez et al. (1993) luminance distribution with
 Preetham et al.'s (1999) coefficients, the same at every wavelength. So the
 sky's brightness and colour are the measured atmosphere's, and its shape
@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from beeoptics.light import hosekwilkie, skypolarisation
+from beeoptics.sky import hosekwilkie, skypolarisation
 from beeoptics.spectra import resample
 
 #: The clear skies, by the model that shapes them.
@@ -52,12 +52,12 @@ class Sky(NamedTuple):
 
     ``basis`` is (k, n_wavelengths). Each basis spectrum's weight along a
     direction is Hosek & Wilkie's extended Perez formula
-    (:func:`beeoptics.light.hosekwilkie.shape_radiance`) with its row of
+    (:func:`beeoptics.sky.hosekwilkie.shape_radiance`) with its row of
     ``shape`` (k, 10: A–I and a scale), ``cos_floor`` and ``cos_offset``,
     under a sun in direction ``sun`` (3,); a ``hemisphere`` sky is dark
     below the horizon. :func:`sky_coefficients` gives the weights (n, k)
     along directions, whose product with the basis is the radiance.
-    A clear sky is polarised (:mod:`beeoptics.light.skypolarisation`), with
+    A clear sky is polarised (:mod:`beeoptics.sky.skypolarisation`), with
     its neutral points ``neutral_rad`` (2,) from the sun, maximum degree
     ``max_degree`` and the air's depolarisation factor at each basis
     spectrum (``depolarisation``, (k,)); a uniform sky is not (``max_degree`` 0).
@@ -100,7 +100,7 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo, polarisati
     ----------
     model : str
         ``hosek_wilkie`` or ``preetham``.
-    daylight : beeoptics.light.daylight.Daylight
+    daylight : beeoptics.sky.daylight.Daylight
         Its ``diffuse`` is the horizontal irradiance the sky must give.
     sun_direction : ndarray, shape (3,)
         Unit vector towards the sun, above the horizon.
@@ -108,7 +108,7 @@ def clear_sky_dome(model, daylight, sun_direction, turbidity, albedo, polarisati
     albedo : ndarray, shape (n_wavelengths,)
         The ground's albedo on the daylight's grid (Hosek & Wilkie's sky depends on it).
     polarisation : str
-        Its polarisation's model (:data:`beeoptics.light.skypolarisation.MODELS`).
+        Its polarisation's model (:data:`beeoptics.sky.skypolarisation.MODELS`).
     """
     wl = daylight.wavelengths
     sun = np.asarray(sun_direction, float)
