@@ -22,7 +22,6 @@ Lévy B, Petitjean S, Ray N, Maillot J (2002) Least squares conformal maps
 for automatic texture atlas generation. ACM Trans Graph 21:362–371.
 """
 
-import igl
 import numpy as np
 from scipy.spatial import ConvexHull, Delaunay, cKDTree
 
@@ -97,6 +96,8 @@ def project_grid(query, count, lines="rows", max_offsets=64):
     pitch : float
         The grid spacing, in mesh units.
     """
+    import igl  # imported where used: the receptor readers need this module's edges, not libigl (--help stays quick)
+
     v, f = query.vertices, query.faces
     scene = embree_scene([(v, f)])
     lo, hi = v[:, :2].min(0), v[:, :2].max(0)
@@ -125,6 +126,8 @@ def project_grid(query, count, lines="rows", max_offsets=64):
 
 def conformal_map(vertices, faces):
     """Least-squares conformal flattening of a disc-shaped mesh, per vertex (n, 2)."""
+    import igl  # imported where used, as in project_grid
+
     loop = igl.boundary_loop(faces)
     b = np.array([loop[0], loop[len(loop) // 2]], dtype=np.int64)
     bc = np.array([[0.0, 0.0], [1.0, 0.0]])

@@ -61,8 +61,8 @@ rule navigation_map:
         "results/logs/navigation/{scene}/{grid}/maps/{chunk}.log",
     threads: TRACING_THREADS
     resources:
-        mem_mb=3000,
-        runtime=30,
+        mem_mb=4000,
+        runtime=60,
     script:
         "../scripts/navigation_map.py"
 
