@@ -14,6 +14,7 @@ looks; an eye described by an ``eye.yaml`` is built once and kept in the cache
 >>> view.catches.head()                                                 # doctest: +SKIP
 """
 
+import functools
 import hashlib
 import inspect
 import logging
@@ -199,6 +200,12 @@ class Scene:
     def __init__(self, path, wavelengths_nm, scene, light, rs=None):
         self.path, self.wavelengths_nm, self.scene, self.light = Path(path), wavelengths_nm, scene, light
         self._rs = rs
+
+    @functools.cached_property
+    def head(self):
+        """The scene file's ``eye`` section, checked: the head's own pose, which a look's pose completes. Read
+        once, not at every look (a scene file's reading and checking took a fifth of a look of a few samples)."""
+        return validate(load_yaml(self.path), "scene", self.path)["eye"]
 
     @property
     def raycasting(self):
@@ -529,7 +536,7 @@ def _placed(scene, pose):
                                eye_rotation=np.asarray(pose["rotation"], float))
     if not any(pose.get(k) is not None for k in ("position_m", "heading_deg", "pitch_deg", "roll_deg")):
         return placed
-    own = validate(load_yaml(scene.path), "scene", scene.path)["eye"]
+    own = scene.head
     return scenes.posed(placed, {"position_m": placed.eye_position if pose.get("position_m") is None else
                                  pose["position_m"],
                                  **{k: own[k] if pose.get(k) is None else pose[k]
