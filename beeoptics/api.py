@@ -18,6 +18,7 @@ import functools
 import hashlib
 import inspect
 import logging
+import numbers
 import os
 import shutil
 import tempfile
@@ -529,7 +530,7 @@ def _placed(scene, pose):
             value = np.zeros(0)
         if value.shape != shape or not np.isfinite(value).all():
             raise InputError("pose", field, f"expected {' × '.join(map(str, shape))} finite numbers")
-    if "rotation" in pose:
+    if pose.get("rotation") is not None:
         if pose.get("position_m") is None:
             raise InputError("pose", "position_m", "a pose with a rotation needs its position")
         return placed._replace(eye_position=np.asarray(pose["position_m"], float),
@@ -603,6 +604,9 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
     rset, wl, table = eye.receptor_set, scene.wavelengths_nm, eye.table
     curve = config["colour"]["sensitivities"]
     settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=rset)
+    if not (isinstance(parts, numbers.Integral) and isinstance(part, numbers.Integral) and 0 <= part < parts):
+        raise InputError("look", "part", f"share {part!r} of {parts!r}: parts is a whole number from 1, part one "
+                         "from 0 below it")
     bounds = np.linspace(0, len(table.id), parts + 1).round().astype(int)
     first, last = bounds[part], bounds[part + 1]
     errors = {}

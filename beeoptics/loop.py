@@ -208,8 +208,10 @@ class BeeView(gym.Env):
                     samples=self.samples, depth=self.depth, seed=int(self.np_random.integers(2**31)),
                     threads=self.threads)
 
+        seen = view.catches  # a table made on first use: read once
+
         def table(names):
-            return np.nan_to_num(view.catches[names].to_numpy(np.float32), nan=0.0)
+            return np.nan_to_num(seen[names].to_numpy(np.float32), nan=0.0)
 
         catches = table(self.classes)
         if self.errors:

@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 import beeoptics
+from beeoptics.headframe import direction_from_x_towards_y
 
 SMALL = os.environ.get("BEEOPTICS_EXAMPLES_SMALL") == "1"
 if SMALL:
@@ -63,9 +64,7 @@ rows = []
 for distance in DISTANCES_M:
     view = beeoptics.look(eye, scene, position_m=FLOWER_M - distance * to_flower, heading_deg=0.0,
                           pitch_deg=-APPROACH_DEG, seed=1, background=BACKGROUND, **TRACE)
-    azimuth, elevation = np.radians(view.catches.azimuth_deg), np.radians(view.catches.elevation_deg)
-    axes = np.column_stack([np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth),
-                            np.sin(elevation)])
+    axes = direction_from_x_towards_y(view.catches.azimuth_deg, view.catches.elevation_deg)
     nearest = np.argmax(axes @ to_flower)
     colour = view.colour.iloc[nearest]
     rows.append({"distance_m": distance,

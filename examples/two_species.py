@@ -24,6 +24,8 @@ import pandas as pd
 from scipy.spatial.transform import Rotation
 
 import beeoptics
+from beeoptics.headframe import direction_from_x_towards_y
+from beeoptics.vision.colourspace import HEXAGON_OUTLINE
 
 SMALL = os.environ.get("BEEOPTICS_EXAMPLES_SMALL") == "1"
 if SMALL:
@@ -73,9 +75,7 @@ for species, (path, receptors) in EYES.items():
                           background=BACKGROUND, **TRACE)
     table = view.catches.merge(view.colour, on=["id", "side"]).merge(
         eye.receptors[["id", "delta_phi_deg"]], on="id")
-    azimuth, elevation = np.radians(table.azimuth_deg), np.radians(table.elevation_deg)
-    axes = np.column_stack([np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth),
-                            np.sin(elevation)])
+    axes = direction_from_x_towards_y(table.azimuth_deg, table.elevation_deg)
     table["off_flower_deg"] = np.degrees(np.arccos(np.clip(axes @ to_flower, -1.0, 1.0)))
     # A receptor is on the flower when its axis meets the flower's head, a disc (its axis leaves the head
     # from a point within a millimetre or two of the eye's position, which the flower's centimetres dwarf).
@@ -134,8 +134,7 @@ for ax, (species, table) in zip(panels, views.items()):
     ax.set_ylabel("elevation (°)")
 fig.colorbar(dots, ax=panels[:-1], label="hexagon distance from the background, hex_r")
 hexagon = panels[-1]
-corner = np.radians(90.0 + 60.0 * np.arange(7))
-hexagon.plot(np.cos(corner), np.sin(corner), color="0.5", lw=0.8)
+hexagon.plot(*np.vstack([HEXAGON_OUTLINE, HEXAGON_OUTLINE[:1]]).T, color="0.5", lw=0.8)
 for species, table in views.items():
     on = table[table.on_flower]
     hexagon.scatter(on.hex_x, on.hex_y, s=12, label=species)

@@ -136,6 +136,7 @@ def test_a_view_gives_its_images_as_arrays_and_its_figures(eye, view):
     (lambda e, s: beeoptics.load_eye(DATA / "none.eye", unit="mm"), "unit"),
     (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.1]}], **FAST)), "position_m"),
     (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.0, 0.1], "rotation": np.eye(2)}])), "rotation"),
+    (lambda e, s: beeoptics.look(e, s, **FAST, part=2, parts=2), "part"),
 ])
 def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
     with pytest.raises(InputError) as refused:

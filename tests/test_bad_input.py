@@ -1064,8 +1064,10 @@ def test_every_number_of_every_input_schema_has_a_range(schema):
         assert "minimum" in node or "exclusiveMinimum" in node, f"{schema}: {field} has no lower bound"
         assert "maximum" in node or "exclusiveMaximum" in node, f"{schema}: {field} has no upper bound"
         if isinstance(node.get("default"), (int, float)) and not isinstance(node["default"], bool):
-            assert node.get("minimum", node.get("exclusiveMinimum")) <= node["default"] <= \
-                node.get("maximum", node.get("exclusiveMaximum")), f"{schema}: {field}'s default is out of range"
+            d = node["default"]
+            within = (node["minimum"] <= d if "minimum" in node else node["exclusiveMinimum"] < d) and \
+                (d <= node["maximum"] if "maximum" in node else d < node["exclusiveMaximum"])
+            assert within, f"{schema}: {field}'s default is out of range"
         for bound in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum"):
             assert isinstance(node.get(bound, 0), (int, float)), f"{schema}: {field}.{bound} is not a number"
 

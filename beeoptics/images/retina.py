@@ -27,7 +27,7 @@ from scipy.ndimage import gaussian_filter
 from scipy.spatial import Delaunay, cKDTree
 
 from beeoptics.headframe import LEFT, RIGHT, in_eye_plane, mirror
-from beeoptics.images.display import encode
+from beeoptics.images.display import EXPOSURE_PERCENTILE, encode
 from beeoptics.images.fieldmaps import paint
 
 #: Blank margin around each eye, as a fraction of its extent.
@@ -159,7 +159,7 @@ def retinal_images(eye, table, relative, colours, srgb, classes, width_px):
         "voronoi_map3": encode(paint(shows, colours)),
         # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
         "voronoi_map2": paint(shows, srgb),
-        "density_map3": encode(dens, np.nanpercentile(dens, 99.5)),
+        "density_map3": encode(dens, np.nanpercentile(dens, EXPOSURE_PERCENTILE)),
         "density_map3_normalised": encode(density(can, xy, table.side, colours, normalise=True)),
     }
     channels = {name: np.clip(paint(shows, relative[:, k])[..., 0], 0.0, 1.0) for k, name in enumerate(classes)}

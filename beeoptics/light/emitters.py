@@ -84,7 +84,7 @@ class LightArrays(NamedTuple):
     sky_nee : bool
         Whether the sky is sampled from every surface, from its table:
     sky_rows, sky_cols, sky_table : ndarray
-        :func:`sky_table`'s cumulative rows and cells and density, sr⁻¹.
+        :func:`beeoptics.sky.sampling.sky_table`'s cumulative rows and cells and density, sr⁻¹.
     """
 
     n_lights: int

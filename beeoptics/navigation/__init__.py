@@ -5,7 +5,7 @@ and places (:mod:`~beeoptics.navigation.idf`); catchment areas (:mod:`~beeoptics
 from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
-    "envmap": ("EnvironmentMap", "Grid", "direction_tree", "environment_map", "eye_weights", "map_catches",
+    "envmap": ("EnvironmentMap", "Grid", "environment_map", "eye_weights", "map_catches",
                "map_spacing_deg", "read_map", "resampled_catches", "resampling_matrix", "ring_grid", "turn_order",
                "write_map"),
     "idf": ("image_difference", "signal_names", "signals", "turned_catches", "valley"),

@@ -311,7 +311,7 @@ def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_de
                           np.concatenate(q_se), sens, settings.samples, settings.depth, settings.seed)
 
 
-def resampling_matrix(env, axes, delta_rho_deg, tree=None):
+def resampling_matrix(env, axes, delta_rho_deg):
     """The weights of the map's directions in each receptor's acceptance: a sparse matrix (receptors, n).
 
     Row i holds the Gaussian kernel of Δρ_k = √(Δρ_i² − Δρ_map²) about
@@ -327,8 +327,6 @@ def resampling_matrix(env, axes, delta_rho_deg, tree=None):
         Unit receptor axes in the scene's frame.
     delta_rho_deg : ndarray (receptors,)
         Their acceptance angles, FWHM, degrees.
-    tree : scipy.spatial.cKDTree, optional
-        The tree of the map's directions, to build it once for many poses (:func:`direction_tree`).
 
     Returns
     -------
@@ -339,7 +337,7 @@ def resampling_matrix(env, axes, delta_rho_deg, tree=None):
         raise InputError(env.source, "spacing_deg", f"{env.spacing_deg:.3g}° is too coarse for receptors of Δρ "
                          f"{delta_rho.min():.3g}°: trace the map at most Δρ/{SPACINGS_PER_DELTA_RHO} apart")
     grid = env.grid
-    tree = direction_tree(env) if tree is None else tree
+    tree = cKDTree(env.grid.directions)
     sigma = np.sqrt(cone_sigma(delta_rho) ** 2 - cone_sigma(env.delta_rho_deg) ** 2)
     # Chords of the cut's angles: the tree measures straight lines between unit vectors.
     cut = 2.0 * np.sin(KERNEL_CUT_SIGMAS * sigma / 2.0)
@@ -369,18 +367,13 @@ def resampling_matrix(env, axes, delta_rho_deg, tree=None):
     return matrix
 
 
-def direction_tree(env):
-    """A k-d tree of the map's directions (scipy), for :func:`resampling_matrix`."""
-    return cKDTree(env.grid.directions)
-
-
-def eye_weights(env, eye, *, pitch_deg=0.0, roll_deg=0.0, heading_deg=0.0, tree=None):
+def eye_weights(env, eye, *, pitch_deg=0.0, roll_deg=0.0, heading_deg=0.0):
     """The eye's resampling matrix (:func:`resampling_matrix`) at the map's place in a pose: built once, it
     serves every heading a whole number of the map's heading steps from ``heading_deg``
     (:func:`resampled_catches`)."""
     # As a scene turns a head's receptors (beeoptics.light.scene.receptors_in_world); their places are the map's.
     axes = eye.table.axis @ head_rotation(heading_deg, pitch_deg, roll_deg).T
-    return resampling_matrix(env, axes, eye.table.delta_rho_deg, tree)
+    return resampling_matrix(env, axes, eye.table.delta_rho_deg)
 
 
 def resampled_catches(env, eye, *, heading_deg=0.0, pitch_deg=0.0, roll_deg=0.0, weights=None, q=None):

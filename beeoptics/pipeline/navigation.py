@@ -95,13 +95,14 @@ def trace_maps(scene_file, receptor_files, eye_files, folder, *, places, navigat
     m = navigation["map"]
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
+    # The spectral radiance (some 190 MB a map for the worker at 5 nm) only where an eye of other classes needs
+    # it: the maps' catches are the first eye's.
+    own = curves(eyes[0].receptor_set, scene.wavelengths_nm)
+    spectrum = any(not np.array_equal(curves(e.receptor_set, scene.wavelengths_nm), own) for e in eyes[1:])
     for place in places:
         env = environment_map(scene, (x.flat[place], y.flat[place], z), eyes[0], spacing_deg=spacing,
                               samples=m["samples"], depth=m["depth"], seed=m["seed"], threads=threads)
-        # The spectral radiance (some 190 MB a map for the worker at 5 nm) only where an eye of other classes
-        # needs it.
-        spectral = any(not np.array_equal(curves(e.receptor_set, env.wavelengths_nm), env.curves) for e in eyes[1:])
-        write_map(folder / f"{place}.npz", env, spectral=spectral)
+        write_map(folder / f"{place}.npz", env, spectral=spectrum)
         log.info("place %d at (%.3f, %.3f, %.3f) m: %d directions %.3g° apart", place, x.flat[place],
                  y.flat[place], z, len(env.q), env.spacing_deg)
 

@@ -62,9 +62,9 @@ thresholds. Proc R Soc B 265:351–358.
 
 import numpy as np
 
-from beeoptics.replicates import T95, standard_error
+from beeoptics.replicates import T95
 from beeoptics.vision.colourspace import excitation, hexagon, rnl_distance
-from beeoptics.vision.uncertainty import quadrature
+from beeoptics.vision.uncertainty import quadrature, spread_se
 
 #: The z of a two-sided 95 % interval of a normal error, the normal's 97.5th percentile (Abramowitz & Stegun
 #: 1964, table 26.1): a published threshold's ± (a standard error of many trials) spans ± Z95 of it.
@@ -270,17 +270,13 @@ def detect(catches, cover, background_mask, angular_diameter_deg, direction, rec
     spread = None
     if replicate_catches is not None:
         # A replicate whose unmixed target catch is not positive has no logarithmic contrast (NaN): the noise
-        # reaches the catch itself, so the error is unbounded (inf, which flags every verdict that needs it),
-        # not unknown (NaN, which would count as none and call a verdict noise could flip certain).
+        # reaches the catch itself, so the error is unbounded (inf, spread_se's rule, which flags every verdict
+        # that needs it), not unknown (NaN, which would count as none and call a verdict noise could flip certain).
         with np.errstate(invalid="ignore", divide="ignore"):
             spread = contrasts(np.asarray(replicate_catches, float), cover, background_mask, receptor_set)[0]
     for name in CONTRASTS:
         row[name] = float(values[name])
-        if spread is None:
-            row[f"se_{name}"] = np.nan
-        else:
-            bounded = np.isfinite(spread[name]).all()
-            row[f"se_{name}"] = float(standard_error(spread[name], axis=0)) if bounded else np.inf
+        row[f"se_{name}"] = np.nan if spread is None else float(spread_se(spread[name][None])[0])
     verdicts = dict.fromkeys(VERDICTS, np.nan)
     if rule is not None:
         achromatic, chromatic = rule["achromatic"], rule["chromatic"]

@@ -17,9 +17,8 @@ NAVIGATION_FILES = ["ridf.csv", "tidf.csv", "places.csv", "catchment.csv", "catc
 
 
 def navigation_places(grid):
-    """The places of a grid: (2 round(extent / 2 spacing) + 1)² (beeoptics.pipeline.navigation.grid_places)."""
-    spec = NAVIGATION["grids"][grid]
-    return (2 * round(spec["extent_m"] / 2 / spec["spacing_m"]) + 1) ** 2
+    """The places of a grid (beeoptics.pipeline.navigation.grid_places)."""
+    return navigation.grid_places((0.0, 0.0), 0.0, **NAVIGATION["grids"][grid])[0].size
 
 
 def navigation_chunks(grid):
