@@ -22,7 +22,8 @@ __version__ = "0.1.0"
 
 #: The Python API (:mod:`beeoptics.api`), imported on first use so that ``import beeoptics`` (and the
 #: command line's ``--help``) stays quick.
-__all__ = ["load_eye", "load_scene", "look", "looks", "human_view", "human_srgb", "Eye", "Scene", "View"]
+__all__ = ["load_eye", "load_scene", "look", "looks", "human_view", "human_srgb", "Eye", "Scene", "View", "look_cones",
+           "Cones", "catches", "cone_rays"]
 
 
 def __getattr__(name):

@@ -23,11 +23,13 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 
 from beeoptics import __version__
+from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.eye.receptors import read_receptor_file
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors, rows_of
@@ -39,6 +41,7 @@ from beeoptics.images.retina import retinal_images
 from beeoptics.light import scene as scenes
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.scenecache import cache_root, code_digest, file_digest
+from beeoptics.light.sensors import cone_samples
 from beeoptics.pipeline.outputs import channel, retinal_images as retinal_outputs
 from beeoptics.raycasting import first_hits
 from beeoptics.sky.dome import white_radiance
@@ -50,7 +53,8 @@ from beeoptics.vision.receptorset import (DEFAULT_CURVES, DEFAULT_SET, ReceptorS
 
 log = logging.getLogger("beeoptics")
 
-__all__ = ["Eye", "Scene", "View", "load_eye", "load_scene", "look", "looks", "human_view", "human_srgb"]
+__all__ = ["Eye", "Scene", "View", "load_eye", "load_scene", "look", "looks", "human_view", "human_srgb", "look_cones",
+           "Cones", "catches", "cone_rays"]
 
 #: The package's code that builds an eye: its files are part of a built eye's cache key, so that a change to
 #: any builds the eye afresh.
@@ -243,12 +247,16 @@ class Scene:
         return Scene(self.path, self.wavelengths_nm, scenes.relit(self.scene, self.wavelengths_nm, light), light,
                      self.raycasting)
 
+    def without_objects(self):
+        """The same light over nothing: the open sky and the sun, no ground or object to hide or scatter them."""
+        return Scene(self.path, self.wavelengths_nm, self.scene._replace(objects=[]), self.light)
+
     def __repr__(self):
         return (f"Scene({str(self.path)!r}: {len(self.scene.objects)} objects, materials "
                 f"{', '.join(self.scene.material_names)}; {self.wavelengths_nm[0]:g}–{self.wavelengths_nm[-1]:g} nm)")
 
 
-def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, geometry=True, **light):
+def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, geometry=True, cache=True, **light):
     """Load a scene once (from the scene cache where it is there), for any number of looks.
 
     A scene of a generated meadow whose mesh is not there yet (a fresh
@@ -262,6 +270,9 @@ def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, geometry=True,
         The spectral grid, nm; the configuration's (``spectral``) by default.
     geometry : bool
         Read its objects; without them (for what needs only its light and materials) it has none.
+    cache : bool
+        Take its objects and materials from the scene cache (or put them there); False reads and checks
+        them from its files, as a scene loader's benchmark times it.
     **light
         Overrides of its ``light`` section (:meth:`Scene.with_light`).
 
@@ -276,7 +287,7 @@ def load_scene(path, *, start_nm=None, end_nm=None, step_nm=None, geometry=True,
                                CONFIG_SCHEMA, source="load_scene", folders=False)["spectral"]
     wl = grid(**spectral)
     missing_meadow(path, starting=lambda mesh: log.warning("generating %s from the meadow file beside it, once", mesh))
-    return Scene(path, wl, scenes.load_scene(path, wl, light or None, geometry=geometry), light)
+    return Scene(path, wl, scenes.load_scene(path, wl, light or None, geometry=geometry, cache=cache), light)
 
 
 class View:
@@ -720,3 +731,175 @@ def human_view(scene, *, camera=None, position_m=None, heading_deg=None, pitch_d
                                                                                 placed.eye_rotation, *size_px)
     settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), samples=samples)
     return render_human(placed, camera, settings, scene.wavelengths_nm, scene.raycasting)
+
+
+def _curves(receptor_set, wavelengths_nm, sensitivities, classes, source):
+    """The receptor set's curves on the grid (n_wavelengths, classes): of ``classes`` only, in their order,
+    where given."""
+    unknown = [c for c in classes or () if c not in receptor_set.classes]
+    if unknown:
+        raise InputError(source, "classes", f"{unknown[0]!r} is none of {', '.join(receptor_set.classes)}")
+    sens = curves(receptor_set, wavelengths_nm, sensitivities or DEFAULT_CURVES)
+    return sens if classes is None else sens[:, [receptor_set.classes.index(c) for c in classes]]
+
+
+def catches(radiance, wavelengths_nm, receptor_set, *, sensitivities=None, classes=None, delta_rho_deg=None):
+    """Each receptor class's quantum catch of spectral radiance: pavo's ``vismodel`` catch (``qcatch = "Qi"``).
+
+    The rectangle rule over the grid in photon units (Collins eq. 1–3,
+    :mod:`beeoptics.vision.catches`), the curves of area 1 nm as pavo's.
+
+    Parameters
+    ----------
+    radiance : array_like (n, ..., n_wavelengths)
+        Spectral radiance, W m⁻² sr⁻¹ nm⁻¹: a receptor's mean over its acceptance (:attr:`View.radiance`,
+        :attr:`Cones.radiance`), or its Stokes vector's components (n, 3, n_wavelengths) alike.
+    wavelengths_nm : ndarray (n_wavelengths,)
+        The uniform spectral grid, nm.
+    receptor_set : ReceptorSet
+        The receptor classes (:attr:`Eye.receptor_set`).
+    sensitivities : str, optional
+        The receptor curves: ``"species"`` (by default), ``"template"`` or a CSV in pavo's layout.
+    classes : sequence of str, optional
+        Only these classes, in this order (``["UV"]``); every class by default.
+    delta_rho_deg : array_like (n,), optional
+        Each receptor's acceptance angle, degrees: the catch over its acceptance solid angle, photons
+        m⁻² s⁻¹, as :attr:`View.catches` gives it. Without it, the catch of the radiance itself, photons
+        m⁻² s⁻¹ sr⁻¹, which receptors of unequal Δρ share for the same light.
+
+    Returns
+    -------
+    ndarray (n, ..., classes)
+    """
+    radiance = np.asarray(radiance)
+    sens = _curves(receptor_set, wavelengths_nm, sensitivities, classes, "catches")
+    if delta_rho_deg is not None:
+        radiance = radiance * acceptance_solid_angle(delta_rho_deg).reshape(-1, *[1] * (radiance.ndim - 1))
+    return quantum_catches(radiance, sens, wavelengths_nm)
+
+
+class Cones(NamedTuple):
+    """Acceptance cones traced through a scene (:func:`look_cones`).
+
+    Attributes
+    ----------
+    radiance : ndarray (n, n_wavelengths), or (n, 3, n_wavelengths) polarised
+        Each cone's mean spectral radiance over its acceptance, W m⁻² sr⁻¹ nm⁻¹; polarised, its spectral
+        Stokes vector (I, Q, U) in the frame of its ``dorsal`` direction.
+    radiance_se : ndarray, as ``radiance``
+        Its standard error over the trace's replicates.
+    samples : ndarray (n,)
+        The samples of each cone's estimate.
+    replicate_catches : ndarray (n, replicates, classes) or None
+        With a receptor set, each replicate's catch of each class over the cone's acceptance solid
+        angle, photons m⁻² s⁻¹ (of the intensity where polarised): their spread is each catch's error.
+    cover : ndarray (n,) or None
+        With a ``target``, the share of each cone's acceptance whose samples met it first.
+    counts : dict
+        The rays traced (``cast``, ``shadow``) and the tracing's wall and CPU seconds (``seconds``,
+        ``cpu_seconds``).
+    """
+
+    radiance: np.ndarray
+    radiance_se: np.ndarray
+    samples: np.ndarray
+    replicate_catches: np.ndarray | None
+    cover: np.ndarray | None
+    counts: dict
+
+
+def look_cones(scene, origins_m, axes, delta_rho_deg, *, streams=None, receptor_set=None, classes=None,
+               sensitivities=None, samples=None, depth=None, seed=None, precision=None, trace=None, threads=None,
+               dorsal=None, target=None, progress=None):
+    """Trace any acceptance cones through a scene: a few receptors at many poses, or cones pointing anywhere.
+
+    Each cone is traced as a receptor of :func:`look` is, with the same
+    settings (the configuration's where not given): a cone of the same
+    stream, origin, axis and Δρ gives the same numbers in any call, on any
+    number of threads.
+
+    Parameters
+    ----------
+    scene : Scene
+    origins_m : array_like (n, 3)
+        The cones' apices in the world, m.
+    axes : array_like (n, 3)
+        Their axes in the world, unit vectors.
+    delta_rho_deg : array_like (n,) or float
+        Their acceptance angles (the Gaussian's full width at half maximum), degrees.
+    streams : array_like of int (n,), optional
+        Each cone's random-number stream (0 … n − 1 by default): cones of their own streams are
+        independent; :func:`look` gives a receptor its id, :func:`looks` a frame's receptors
+        their ids offset by the frame's.
+    receptor_set : ReceptorSet, optional
+        The classes whose catches the replicates give (:attr:`Cones.replicate_catches`) and a
+        ``precision`` is asked of; without it, the precision is asked of the radiance summed over the grid.
+    classes : sequence of str, optional
+        Of the set's classes, only these (``["UV"]``).
+    sensitivities : str, optional
+        The receptor curves: ``"species"``, ``"template"`` or a CSV in pavo's layout.
+    samples, depth, seed, precision, trace, threads
+        As :func:`look`'s.
+    dorsal : array_like (3,) or (n, 3), optional
+        A direction in the world, or one per cone (the head's dorsal direction): with it, polarised,
+        each cone's Stokes vector in the frame of that direction about its samples
+        (:func:`beeoptics.light.integrator.trace_paths`).
+    target : (array_like, float or array_like), optional
+        A sphere, centre (3,) and radius, m, or one per cone ((n, 3), (n,)): each cone's share of its
+        acceptance that met it first (:attr:`Cones.cover`).
+    progress : callable, optional
+        Called with (cones done, cones).
+
+    Returns
+    -------
+    Cones
+    """
+    config = _config(scene, samples, depth, seed, precision, None, sensitivities, trace, "look_cones")
+    origins_m, axes = (np.asarray(v, float) for v in (origins_m, axes))
+    n = len(origins_m) if origins_m.ndim else 0
+    drho = np.asarray(delta_rho_deg, float)
+    drho = np.full(n, drho) if drho.ndim == 0 else drho
+    streams = np.arange(n, dtype=np.int64) if streams is None else np.asarray(streams, np.int64)
+    for field, value, shape in (("origins_m", origins_m, (n, 3)), ("axes", axes, (n, 3)),
+                                ("delta_rho_deg", drho, (n,)), ("streams", streams, (n,))):
+        if value.shape != shape or not np.isfinite(value).all():
+            raise InputError("look_cones", field, f"expected {' × '.join(map(str, shape))} finite numbers, "
+                             f"one per cone, not {' × '.join(map(str, value.shape))}")
+    if not (drho > 0.0).all():
+        raise InputError("look_cones", "delta_rho_deg", "acceptance angles are positive")
+    wl = scene.wavelengths_nm
+    sens = None if receptor_set is None else (wl, _curves(receptor_set, wl, config["colour"]["sensitivities"],
+                                                          classes, "look_cones"))
+    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=receptor_set)
+    errors = {}
+    traced = trace_cones(scene.scene, origins_m, axes, drho, streams, 0, n, settings, len(wl), progress,
+                         scene.raycasting, dorsal, target, sens, errors)
+    return Cones(traced[0], errors["radiance_se"], errors["samples"], errors.get("catches"),
+                 traced[2] if target is not None else None, traced[1])
+
+
+def cone_rays(eye, scene, samples, *, seed=1, receptors=slice(None)):
+    """The rays a look casts first: ``samples`` directions drawn from each receptor's acceptance cone, at the
+    scene's own pose of the head, as Open3D's ``RaycastingScene.cast_rays`` takes them (a benchmark's
+    yardstick: bare Embree on the rays the tracer casts).
+
+    Parameters
+    ----------
+    eye : Eye
+    scene : Scene
+    samples : int
+        Directions a receptor.
+    seed : int
+        The random seed.
+    receptors : slice or array_like of int
+        Which rows of the eye's receptor table.
+
+    Returns
+    -------
+    ndarray (receptors × samples, 6)
+        Each ray's origin (m) and unit direction in the world, a receptor's rays together.
+    """
+    table = eye.table
+    origins, axes = scenes.receptors_in_world(scene.scene, table.position[receptors], table.axis[receptors])
+    dirs, _ = cone_samples(axes, table.delta_rho_deg[receptors], samples, seed)
+    return np.hstack([np.repeat(origins, samples, axis=0), dirs.reshape(-1, 3)])

@@ -44,7 +44,6 @@ def main(argv=None):
     from beeoptics.io.receptortable import read_receptors
     from beeoptics.io.table import read_table
     from beeoptics.io.validation import config_defaults
-    from beeoptics.light.batching import TraceSettings
     from beeoptics.pipeline.polarisation import polarisation_maps
     from beeoptics.vision.polarisation import analyser_ps
     from beeoptics.vision.receptorset import receptor_set_of
@@ -69,11 +68,11 @@ def main(argv=None):
         del scene["materials"]["grass"]["coating"]
         (bare / "scene.yaml").write_text(yaml.safe_dump(scene, sort_keys=False))
         for name, path, seed in (("coated", meadow, 1), ("lambertian", bare, 1), ("lambertian_again", bare, 2)):
-            settings = TraceSettings(samples, config["trace"]["depth"], seed, config["trace"]["batch_rays"], 2)
             out = {k: tmp / f"{name}_{k}.{ext}" for k, ext in (("table", "csv"), ("field", "png"),
                                                              ("retina", "png"), ("dorsal_rim", "png"))}
             polarisation_maps(eye, receptors, path / "scene.yaml", out, spectral=config["spectral"],
-                              settings=settings, dorsal_rim_ps=analyser_ps(config["polarisation"]["dorsal_rim_ps"]),
+                              trace={**config["trace"], "samples_per_receptor": samples, "seed": seed}, threads=2,
+                              dorsal_rim_ps=analyser_ps(config["polarisation"]["dorsal_rim_ps"]),
                               receptor_set=receptor_set, title=f"worker in meadow, grass {name.split('_')[0]}")
             tables[name] = read_table(out["table"], numeric=["id"], text=["side"])
             if args.figures is not None and name != "lambertian_again":

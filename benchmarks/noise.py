@@ -61,17 +61,11 @@ from pathlib import Path
 
 import numpy as np
 
-from beeoptics.io.receptortable import read_receptors
+import beeoptics
 from beeoptics.io.validation import config_defaults
-from beeoptics.light.batching import TraceSettings
-from beeoptics.light.precision import Precision
-from beeoptics.light.scene import load_scene, raycasting_scene
-from beeoptics.tracing import trace_receptors
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.replicates import standard_error
-from beeoptics.spectra import grid
-from beeoptics.vision.catches import quantum_catches
-from beeoptics.vision.receptorset import curves, receptor_set_of
+from beeoptics.vision.receptorset import receptor_set_of
 
 from record import record
 
@@ -107,18 +101,14 @@ def main(argv=None):
     if (folder / MEADOW_FILE).exists() and not (folder / MEADOW_MESH).exists():
         subprocess.run([sys.executable, "-m", "beeoptics.cli", "meadow", str(folder / MEADOW_FILE), "-o",
                         str(folder / MEADOW_MESH)], check=True, stdout=subprocess.DEVNULL)
-    wl = grid(**config["spectral"])
-    scene = load_scene(folder / "scene.yaml", wl)
-    rs = raycasting_scene(scene)
-    table = read_receptors(receptors)
+    scene = beeoptics.load_scene(folder / "scene.yaml", **config["spectral"])
     receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")
-    sens = curves(receptor_set, wl)
+    eye = beeoptics.load_eye(receptors, receptor_set=receptor_set)
     result = {"eye": args.eye, "scene": args.scene, "spp": args.spp, "depth": args.depth, "threads": args.threads,
-              "seeds": args.seeds, "receptors": len(table.id)}
+              "seeds": args.seeds, "receptors": len(eye.table.id)}
     if args.precision is not None:
-        _warm_up(scene, table, args, config, len(wl), rs)
-        record("noise_precision", {**result, **precision_comparison(args, config, scene, rs, table, receptor_set,
-                                                                    wl, sens)})
+        _warm_up(eye, scene, args)
+        record("noise_precision", {**result, **precision_comparison(args, config, eye, scene)})
         return
 
     def traced(lit_by, *samplings):
@@ -129,11 +119,10 @@ def main(argv=None):
         catches, seconds = {s: [] for s in samplings}, {s: [] for s in samplings}
         for seed in range(1, args.seeds + 1):
             for sampling in samplings[::(-1) ** seed]:
-                settings = TraceSettings(args.spp, args.depth, seed, config["trace"]["batch_rays"], args.threads,
-                                         sampling)
-                radiance, counts = trace_receptors(lit_by, table, 0, len(table.id), settings, len(wl), rs=rs)
-                catches[sampling].append(quantum_catches(radiance, sens, wl))
-                seconds[sampling].append((counts["seconds"], counts["cpu_seconds"]))
+                view = beeoptics.look(eye, lit_by, samples=args.spp, depth=args.depth, seed=seed,
+                                      trace={"sky_sampling": sampling}, threads=args.threads)
+                catches[sampling].append(beeoptics.catches(view.radiance, scene.wavelengths_nm, receptor_set))
+                seconds[sampling].append((view.counts["seconds"], view.counts["cpu_seconds"]))
         return {s: (np.array(catches[s]), np.array(seconds[s])) for s in samplings}
 
     def spread(q):
@@ -141,7 +130,7 @@ def main(argv=None):
         return q.mean(axis=0), q.std(axis=0, ddof=1)
 
     g = receptor_set.achromatic
-    _warm_up(scene, table, args, config, len(wl), rs)
+    _warm_up(eye, scene, args)
     both = traced(scene, "nee", "escape")
     runs = {}
     for name, sampling in (("default", "nee"), ("escape", "escape")):
@@ -161,7 +150,7 @@ def main(argv=None):
               flush=True)
     sources = {}
     for light, alone in (("sun", {"sky": "none"}), ("sky", {"sun": False})) if _two_lights(scene) else ():
-        mean, se = spread(traced(load_scene(folder / "scene.yaml", wl, alone), "nee")["nee"][0][:, :, g])
+        mean, se = spread(traced(scene.with_light(**alone), "nee")["nee"][0][:, :, g])
         sources[light] = (mean[noisy], se[noisy])
     if sources:
         result["noise_sources"] = {"receptors": len(noisy),
@@ -174,7 +163,7 @@ def main(argv=None):
     record("noise", result)
 
 
-def precision_comparison(args, config, scene, rs, table, receptor_set, wl, sens):
+def precision_comparison(args, config, eye, scene):
     """Fixed sampling at ``--spp`` and a quarter of it, and adaptive sampling to ``--precision``, over the seeds.
 
     For each setting, per class: the 50th, 90th and 99th percentiles over
@@ -197,24 +186,22 @@ def precision_comparison(args, config, scene, rs, table, receptor_set, wl, sens)
     bring its p99 to adaptive's (time taken as proportional to N), over
     adaptive's time.
     """
+    receptor_set = eye.receptor_set
     g = receptor_set.classes[receptor_set.achromatic]
-    asked = config["trace"]["precision"]
     settings = {f"fixed_{args.spp // 4}": (args.spp // 4, None), f"fixed_{args.spp}": (args.spp, None),
-                f"adaptive_{args.precision:g}": (args.spp, Precision(args.precision, asked["floor"],
-                                                                     asked["min_samples"], asked["max_samples"]))}
+                f"adaptive_{args.precision:g}": (args.spp, args.precision)}
     out = {}
     for name, (samples, precision) in settings.items():
         catches, own, seconds, taken = [], [], [], []
         for seed in range(1, args.seeds + 1):
-            trace = TraceSettings(samples, args.depth, seed, config["trace"]["batch_rays"], args.threads,
-                                  precision=precision)
-            errors = {}
-            _, counts = trace_receptors(scene, table, 0, len(table.id), trace, len(wl), rs=rs,
-                                        sensitivities=(wl, sens), errors=errors)
-            catches.append(errors["catches"].mean(axis=1))
-            own.append(standard_error(errors["catches"]))
-            seconds.append((counts["seconds"], counts["cpu_seconds"]))
-            taken.append(errors["samples"].mean() + (0 if precision is None else precision.min_samples))
+            view = beeoptics.look(eye, scene, samples=samples, depth=args.depth, seed=seed, precision=precision,
+                                  threads=args.threads)
+            catches.append(view.replicate_catches.mean(axis=1))
+            own.append(standard_error(view.replicate_catches))
+            seconds.append((view.counts["seconds"], view.counts["cpu_seconds"]))
+            # The pilot's samples are not among an adaptive estimate's.
+            taken.append(view.samples.mean() + (0 if precision is None else
+                                                config["trace"]["precision"]["min_samples"]))
         catches, own, seconds = np.array(catches), np.array(own), np.array(seconds)
         mean = catches.mean(axis=0)
         lit = (mean > 0).all(axis=1)
@@ -242,12 +229,12 @@ def precision_comparison(args, config, scene, rs, table, receptor_set, wl, sens)
     return out
 
 
-def _warm_up(scene, table, args, config, n_wavelengths, rs):
+def _warm_up(eye, scene, args):
     """Trace a few receptors each way once, untimed, so that neither estimator's first seed pays for loading
-    the compiled kernels (the estimator timed first would)."""
+    the compiled kernels (the estimator timed first would): the first share of about :data:`WARM_UP`."""
     for sampling in ("nee", "escape"):
-        settings = TraceSettings(args.spp, args.depth, 0, config["trace"]["batch_rays"], args.threads, sampling)
-        trace_receptors(scene, table, 0, min(len(table.id), WARM_UP), settings, n_wavelengths, rs=rs)
+        beeoptics.look(eye, scene, samples=args.spp, depth=args.depth, seed=0, trace={"sky_sampling": sampling},
+                       threads=args.threads, parts=max(1, len(eye.table.id) // WARM_UP))
 
 
 def _efficiency(q_default, t_default, q_escape, t_escape, g):
@@ -280,7 +267,7 @@ def _efficiencies(runs, g):
 def _two_lights(scene):
     """Whether ``scene`` is lit by both a sky and a sun, whose shares of the noise can be told apart (a scene
     under a sky alone, as ``uniform``, has one light and one share)."""
-    return scene.sky is not None and scene.sun is not None
+    return scene.scene.sky is not None and scene.scene.sun is not None
 
 
 if __name__ == "__main__":

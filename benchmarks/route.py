@@ -33,12 +33,8 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
-
 import beeoptics
 from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
-from beeoptics.light.scene import receptors_in_world
-from beeoptics.light.sensors import cone_samples
 from beeoptics.pipeline import flights
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.raycasting import cast_rate
@@ -94,11 +90,7 @@ def main(argv=None):
         view.relative
     api_wall = time.perf_counter() - start
     # Bare Embree, the yardstick: the frames' count of receptor-cone rays cast alone on the same scene.
-    table = eye.table
-    origins, axes = receptors_in_world(scene.scene, table.position, table.axis)
-    dirs, _ = cone_samples(axes, table.delta_rho_deg, views["samples_per_receptor"], 1)
-    batch = np.hstack([np.repeat(origins, views["samples_per_receptor"], axis=0), dirs.reshape(-1, 3)])
-    bare = cast_rate(scene.raycasting, batch, out["rays"])
+    bare = cast_rate(scene.raycasting, beeoptics.cone_rays(eye, scene, views["samples_per_receptor"]), out["rays"])
     result = {"eye": args.eye, "scene": args.scene, "flight": args.flight, "threads": args.threads,
               "frames": out["frames"], "frames_per_s": out["frames"] / wall,
               "api_frames_per_s": len(poses) / api_wall, "trace_s": out["trace_s"],

@@ -45,8 +45,6 @@ import numpy as np
 
 import beeoptics
 from beeoptics.io.validation import config_defaults
-from beeoptics.light.scene import receptors_in_world
-from beeoptics.light.sensors import cone_samples
 from beeoptics.pipeline.trace import gather_responses, trace_part
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
 from beeoptics.raycasting import cast_rate, embree_seconds
@@ -64,13 +62,11 @@ def build_eye(eye, receptors_csv):
                     "--quiet"], check=True)
 
 
-def bare_rays_per_s(scene, origins, axes, drho, rays, seed):
-    """Throughput of ``cast_rays`` alone on receptor-cone rays, batched as the trace batches, in a
-    :class:`beeoptics.Scene`'s Embree scene."""
+def bare_rays_per_s(eye, scene, rays, seed):
+    """Throughput of ``cast_rays`` alone on receptor-cone rays, :data:`BARE_BATCH_RAYS` at a time (256 of each
+    of the eye's first receptors), in a :class:`beeoptics.Scene`'s Embree scene."""
     per = max(1, BARE_BATCH_RAYS // 256)
-    dirs, _ = cone_samples(axes[:per], drho[:per], 256, seed)
-    batch = np.hstack([np.repeat(origins[:per], 256, axis=0), dirs.reshape(-1, 3)])
-    return cast_rate(scene.raycasting, batch, rays)
+    return cast_rate(scene.raycasting, beeoptics.cone_rays(eye, scene, 256, seed=seed, receptors=slice(0, per)), rays)
 
 
 def main():
@@ -113,17 +109,16 @@ def main():
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     rays = counts["cast"] + counts["shadow"]
 
-    table = beeoptics.load_eye(receptors_csv).table
+    eye = beeoptics.load_eye(receptors_csv)
     scene = beeoptics.load_scene(scene_file, **spectral)
-    origins, axes = receptors_in_world(scene.scene, table.position, table.axis)
-    bare = bare_rays_per_s(scene, origins, axes, table.delta_rho_deg, rays, args.seed)
+    bare = bare_rays_per_s(eye, scene, rays, args.seed)
     pipeline = rays / wall
-    print(f"{args.eye} pair in {args.scene}: {len(origins)} receptors, {rays} rays in {wall:.1f} s; "
+    print(f"{args.eye} pair in {args.scene}: {len(eye.table.id)} receptors, {rays} rays in {wall:.1f} s; "
           f"{pipeline / 1e6:.2f} M rays/s against {bare / 1e6:.2f} M bare")
     record("trace", {
         "eye": args.eye, "scene": args.scene, "scene_triangles": int(scene.objects.faces.sum()),
         "spp": args.spp, "depth": args.depth, "threads": args.threads, "batch_rays": args.batch_rays,
-        "receptors": len(origins), "rays": rays, "wall_s": round(wall, 2),
+        "receptors": len(eye.table.id), "rays": rays, "wall_s": round(wall, 2),
         "trace_s": round(counts["seconds"], 2),
         "embree_fraction": round(embree / (counts["seconds"] * args.threads), 3),
         "embree_cpu_share": round(embree_cpu / counts["cpu_seconds"], 3) if args.threads == 1 else None,

@@ -129,6 +129,24 @@ def test_a_view_gives_its_images_as_arrays_and_its_figures(eye, view):
     assert refused.value.field == "kind"
 
 
+def test_any_cones_traced_as_a_looks_receptors_are_its_view_bit_for_bit(eye, scene, view):
+    """Cones at the receptors' places, drawing their ids' random numbers, are the look's receptors: their
+    radiance, replicates, Stokes vectors and catches (over the acceptance: the view's table's) the look's."""
+    t, r = eye.table, scene.scene.eye_rotation
+    cones = (scene, t.position * 1e-3 @ r.T + scene.scene.eye_position, t.axis @ r.T, t.delta_rho_deg)
+    traced = beeoptics.look_cones(*cones, streams=t.id, receptor_set=eye.receptor_set, **FAST, seed=3)
+    np.testing.assert_array_equal(traced.radiance, view.radiance)
+    np.testing.assert_array_equal(traced.replicate_catches, view.replicate_catches)
+    classes = list(eye.receptor_set.classes)
+    np.testing.assert_array_equal(beeoptics.catches(traced.radiance, scene.wavelengths_nm, eye.receptor_set,
+                                                    delta_rho_deg=t.delta_rho_deg), view.catches[classes])
+    polarised = beeoptics.look_cones(*cones, streams=t.id, dorsal=r[:, 2], **FAST, seed=3)
+    np.testing.assert_array_equal(polarised.radiance, beeoptics.look(eye, scene, **FAST, seed=3, polarised=True).stokes)
+    # The same light with nothing in it: the ground's receptors see the sky below the horizon too.
+    empty = scene.without_objects()
+    assert not empty.scene.objects and empty.scene.sky is scene.scene.sky and len(scene.scene.objects)
+
+
 @pytest.mark.parametrize("call, field", [
     (lambda e, s: beeoptics.look(e, s, samples=0), "trace.samples_per_receptor"),
     (lambda e, s: beeoptics.look(e, s, **FAST, background="granite"), "background"),
@@ -137,6 +155,9 @@ def test_a_view_gives_its_images_as_arrays_and_its_figures(eye, view):
     (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.1]}], **FAST)), "position_m"),
     (lambda e, s: next(beeoptics.looks(e, s, [{"position_m": [0.0, 0.0, 0.1], "rotation": np.eye(2)}])), "rotation"),
     (lambda e, s: beeoptics.look(e, s, **FAST, part=2, parts=2), "part"),
+    (lambda e, s: beeoptics.look_cones(s, np.zeros((2, 3)), [[0.0, 0.0, 1.0]], 2.0), "axes"),
+    (lambda e, s: beeoptics.look_cones(s, np.zeros((1, 3)), [[0.0, 0.0, 1.0]], -2.0), "delta_rho_deg"),
+    (lambda e, s: beeoptics.catches(s.wavelengths_nm[None], s.wavelengths_nm, e.receptor_set, classes=["R"]), "classes"),
 ])
 def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
     with pytest.raises(InputError) as refused:

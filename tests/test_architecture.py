@@ -25,9 +25,8 @@ ALLOWED = {
     "light": {"light", "sky", "eye", "io", *SHARED},
     "vision": {"vision", "io", *SHARED},
     "images": {"images", "vision", "light", "sky", "eye", "io", *SHARED},
-    # (tracing only until the stages NOT_YET names reach it through the API.) The navigation stage reads its maps
-    # and eyes through the API's records and calls beeoptics.navigation.
-    "pipeline": {"pipeline", "api", "tracing", "navigation", "images", "vision", "light", "sky", "eye", "world", "io",
+    # The navigation stage reads its maps and eyes through the API's records and calls beeoptics.navigation.
+    "pipeline": {"pipeline", "api", "navigation", "images", "vision", "light", "sky", "eye", "world", "io",
                  *SHARED},
     "cli": {"pipeline", "api", "images", "vision", "light", "sky", "eye", "world", "io", *SHARED},
     # The tracer's entry points, which only the API calls (test_stages_reach_the_tracer_through_the_api).
@@ -143,26 +142,6 @@ INTERNALS = {
 #: The stages: the workflow's stage functions and scripts, the command line and the benchmarks.
 STAGES = sorted([*(PACKAGE / "pipeline").glob("*.py"), PACKAGE / "cli.py",
                  *(ROOT / "workflow" / "scripts").glob("*.py"), *(ROOT / "benchmarks").glob("*.py")])
-#: Stages that still reach the tracer past the API, each with the names it uses. The benchmarks' yardstick,
-#: bare Embree casting receptor-cone rays alone, and the scene loader's own benchmark, time the internals
-#: themselves and stay. The rest is a gap left visible, to close: the detection survey's and the compass's
-#: cones of a few receptors at many poses, the polarisation maps' Stokes vectors (and the benchmarks that
-#: run them), a flight's detection from its frames' radiance, and the kernels' compilation on a toy.
-NOT_YET = {
-    "benchmarks/route.py": {"receptors_in_world", "cone_samples"},
-    "benchmarks/trace.py": {"receptors_in_world", "cone_samples"},
-    "benchmarks/load.py": {"load_scene"},
-    "benchmarks/noise.py": {"TraceSettings", "load_scene", "raycasting_scene", "trace_receptors", "quantum_catches"},
-    "benchmarks/coating.py": {"TraceSettings"},
-    "beeoptics/pipeline/detection.py": {"load_scene", "raycasting_scene", "trace_cones", "quantum_catches"},
-    "beeoptics/pipeline/polarisation.py": {"load_scene", "raycasting_scene", "relit", "trace_cones",
-                                           "trace_receptors", "quantum_catches"},
-    "beeoptics/pipeline/kernels.py": {"TraceSettings", "load_scene", "render_human", "trace_receptors"},
-    "beeoptics/pipeline/flights.py": {"quantum_catches"},
-    "workflow/scripts/compass.py": {"TraceSettings"},
-    "workflow/scripts/detection_survey.py": {"TraceSettings"},
-    "workflow/scripts/polarisation_maps.py": {"TraceSettings"},
-}
 
 
 def internal_uses(path):
@@ -181,7 +160,5 @@ def internal_uses(path):
 def test_stages_reach_the_tracer_through_the_api(path):
     name = str(path.relative_to(ROOT))
     uses = internal_uses(path)
-    past = [f"{name}:{line}: {what}" for line, what in uses if what not in NOT_YET.get(name, ())]
+    past = [f"{name}:{line}: {what}" for line, what in uses]
     assert not past, f"past the API: {', '.join(past)}"
-    # A gap closed is taken off the list.
-    assert {what for _, what in uses} >= NOT_YET.get(name, set()), f"{name} no longer uses all NOT_YET names"

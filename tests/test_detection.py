@@ -8,8 +8,8 @@ from beeoptics.headframe import head_rotation
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table, write_table
-from beeoptics.light.batching import TraceSettings
-from beeoptics.light.scene import load_scene, raycasting_scene
+from beeoptics.api import Eye, load_scene as load_api_scene
+from beeoptics.light.scene import load_scene
 from beeoptics.pipeline.detection import approach_poses, detect_views, summarise
 from beeoptics.replicates import T95
 from beeoptics.sky.dome import horizontal_irradiance
@@ -172,15 +172,12 @@ def no_green_contrast(wl):
 
 
 def at_the_decision_point(tmp_path, worker, material, alpha):
-    wl = grid(300.0, 700.0, 10.0)
     path, radius = maze(tmp_path, material, alpha)
-    scene = load_scene(path, wl)
-    sens = curves(BEE, wl)
+    scene = load_api_scene(path, start_nm=300.0, end_nm=700.0, step_nm=10.0)
     position = np.array([[0.0, 0.0, EYE_HEIGHT_M]])
-    return detect_views(scene, raycasting_scene(scene), worker, sens, wl, np.zeros((len(worker.id), 3), bool),
-                        TraceSettings(samples=64, depth=2, seed=1, batch_rays=65536, threads=2), BEE,
-                        np.array([WALL_M - 0.001, 0.0, EYE_HEIGHT_M]), radius, position,
-                        head_rotation(0.0, 0.0)[None])[0]
+    return detect_views(Eye(path, worker, BEE), scene, np.array([WALL_M - 0.001, 0.0, EYE_HEIGHT_M]), radius,
+                        position, head_rotation(0.0, 0.0)[None],
+                        trace={"samples_per_receptor": 64, "depth": 2, "seed": 1, "batch_rays": 65536}, threads=2)[0]
 
 
 def report(capsys, stimulus, rows):

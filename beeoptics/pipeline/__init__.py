@@ -12,7 +12,7 @@ __all__, __getattr__ = exports(__name__, {
     "sweeps": ("sweep_summary", "variant_light", "variant_trace", "variants", "with_delta_rho"),
     "world": ("MEADOW_FILE", "MEADOW_FLOWERS", "MEADOW_MESH", "generate_meadow"),
     "flights": ("flight_products", "flight_views", "frame_count", "human_frames", "shares", "trace_frames"),
-    "polarisation": ("compass", "polarisation_maps", "stokes_catches"),
+    "polarisation": ("compass", "polarisation_maps"),
     "logs": ("logging_to",),
     "outputs": ("COLOUR_FIGURES", "FACET_OUTPUTS", "FIELD_MAPS", "IMAGES"),
 })

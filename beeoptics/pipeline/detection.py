@@ -21,19 +21,15 @@ mapping of output names to paths, atomically.
 
 import numpy as np
 
+from beeoptics.api import catches as catches_of, load_eye, load_scene, look_cones
 from beeoptics.headframe import head_rotation
 from beeoptics.images import figures
-from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import read_table, write_table
 from beeoptics.io.errors import InputError
 from beeoptics.light.sampler import STREAMS
-from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.pipeline.logs import log
-from beeoptics.tracing import trace_cones
-from beeoptics.spectra import grid
-from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import COLUMNS, RING_DELTA_PHI, detect, local_background
-from beeoptics.vision.receptorset import DEFAULT_CURVES, curves, lacking, ommatidium_types, receptor_set_of
+from beeoptics.vision.receptorset import DEFAULT_CURVES, lacking, ommatidium_types, receptor_set_of
 from beeoptics.world.meadow import FLOWER_COLUMNS
 
 #: The criteria whose first distances an approach reports: a verdict column, and the receptor-level
@@ -69,7 +65,7 @@ def approach_poses(centre, azimuth_deg, descent_deg, distances_m):
     return positions, np.broadcast_to(rotation, (len(positions), 3, 3))
 
 
-def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectral, settings, survey,
+def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectral, trace, threads, survey,
            receptor_curves=DEFAULT_CURVES):
     """Approach a sample of a meadow's flowers with one eye: ``outputs["views"]`` and ``outputs["approaches"]``.
 
@@ -85,21 +81,18 @@ def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectra
 
     Parameters
     ----------
+    trace : dict
+        A config's ``trace`` section, as the survey traces (:func:`beeoptics.api.look_cones`).
+    threads : int
     survey : dict
         The config's ``detection``: ``flowers_per_species``,
         ``directions``, ``descent_deg``, ``distances`` (``farthest_radii``,
         ``nearest_radii``, in the flower's radii, and ``steps``, spaced
         geometrically) and ``seed``.
     """
-    wl = grid(**spectral)
-    scene = load_scene(scene_file, wl)
-    rs = raycasting_scene(scene)
-    table = read_receptors(receptors_csv)
-    receptor_set = receptor_set_of(eye_file)
-    sens = curves(receptor_set, wl, receptor_curves)
-    types = ommatidium_types(receptor_set, len(table.id))
-    absent = (lacking(receptor_set, types) if types is not None else
-              np.zeros((len(table.id), len(receptor_set.classes)), bool))
+    scene = load_scene(scene_file, **spectral)
+    eye = load_eye(receptors_csv, receptor_set=receptor_set_of(eye_file))
+    table = eye.table
     flowers = read_table(flowers_csv, numeric=FLOWER_COLUMNS[1:], text=FLOWER_COLUMNS[:1])
     chosen = sample_flowers(flowers, survey["flowers_per_species"], survey["seed"])
     spacing = survey["distances"]
@@ -121,8 +114,10 @@ def survey(receptors_csv, eye_file, scene_file, flowers_csv, outputs, *, spectra
         about = {"species": flowers["species"][f], "flower": int(f)}
         for k in range(survey["directions"]):
             azimuth = (turn + 360.0 * k / survey["directions"]) % 360.0
-            rows = _approach(scene, rs, table, sens, wl, absent, settings, receptor_set, centre, radius, azimuth,
-                             survey["descent_deg"], distances, count * survey["directions"] + k)
+            rows = detect_views(eye, scene, centre, radius, *approach_poses(centre, azimuth, survey["descent_deg"],
+                                                                            distances),
+                                count * survey["directions"] + k, trace=trace, threads=threads,
+                                sensitivities=receptor_curves)
             views += [{**about, "azimuth_deg": azimuth, "distance_m": d, **r} for d, r in zip(distances, rows)]
             first = {f"first_{name}": _first(distances, [r[column] >= 1 for r in rows])
                      for name, column in FIRST.items()}
@@ -149,16 +144,8 @@ def _first(distances, holds):
     return hits[0] if hits else np.nan
 
 
-def _approach(scene, rs, table, sens, wl, absent, settings, receptor_set, centre, radius, azimuth, descent,
-              distances, index):
-    """The detection rows of approach ``index``, one per distance (:func:`detect_views`)."""
-    positions, rotations = approach_poses(centre, azimuth, descent, distances)
-    return detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, centre, radius, positions,
-                        rotations, index)
-
-
-def detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, centre, radius, positions, rotations,
-                 index=0):
+def detect_views(eye, scene, centre, radius, positions, rotations, index=0, *, trace=None, threads=None,
+                 sensitivities=DEFAULT_CURVES):
     """Detection of a target (a sphere, ``centre``, ``radius``, m) from each of several head poses:
     a row of :func:`beeoptics.vision.detection.detect` per pose.
 
@@ -171,14 +158,22 @@ def detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, cen
 
     Parameters
     ----------
-    table : ReceptorTable
-    sens : ndarray (n_wavelengths, classes)
-        The receptor set's curves on ``wl``.
-    absent : ndarray (receptors, classes) of bool
-        The classes each receptor's ommatidium lacks (a mosaic's).
+    eye : beeoptics.api.Eye
+    scene : beeoptics.api.Scene
+    centre : array_like (3,)
+    radius : float
     positions, rotations : ndarray (k, 3), (k, 3, 3)
         The head's poses: position (m) and rotation (columns its axes), world frame.
+    trace : dict, optional
+        A config's ``trace`` section (:func:`beeoptics.api.look_cones`).
+    threads : int, optional
+    sensitivities : str
+        The receptor curves (``colour.sensitivities``).
     """
+    table, receptor_set, wl = eye.table, eye.receptor_set, scene.wavelengths_nm
+    types = ommatidium_types(receptor_set, len(table.id))
+    absent = (lacking(receptor_set, types) if types is not None else
+              np.zeros((len(table.id), len(receptor_set.classes)), bool))
     drho, dphi = table.delta_rho_deg, table.delta_phi_deg
     distances = np.linalg.norm(np.asarray(centre, float) - positions, axis=1)
     picked, origins, axes, streams, toward = [], [], [], [], []
@@ -198,13 +193,14 @@ def detect_views(scene, rs, table, sens, wl, absent, settings, receptor_set, cen
     if not sum(len(r) for r in picked):
         return [{**dict.fromkeys(COLUMNS, np.nan), "receptors_touched": 0, "receptors_covered": 0} for _ in picked]
     every = np.concatenate(picked)
-    errors = {}
-    radiance, _, cover = trace_cones(scene, np.vstack(origins), np.vstack(axes), drho[every],
-                                     np.concatenate(streams).astype(np.int64), 0, len(every), settings, len(wl),
-                                     rs=rs, target=(centre, radius), sensitivities=(wl, sens), errors=errors)
-    catches = quantum_catches(radiance, sens, wl)
+    cones = look_cones(scene, np.vstack(origins), np.vstack(axes), drho[every], streams=np.concatenate(streams),
+                       receptor_set=receptor_set, sensitivities=sensitivities, trace=trace, threads=threads,
+                       target=(centre, radius))
+    cover = cones.cover
+    # Catches of the receptors' radiance, not their irradiance: receptors of unequal Δρ compare alike.
+    catches = catches_of(cones.radiance, wl, receptor_set, sensitivities=sensitivities)
     catches[absent[every]] = np.nan
-    replicates = np.where(absent[every][:, None, :], np.nan, errors["catches"])
+    replicates = np.where(absent[every][:, None, :], np.nan, cones.replicate_catches)
     out, start = [], 0
     for j, rows in enumerate(picked):
         part = slice(start, start + len(rows))

@@ -18,7 +18,7 @@ from beeoptics.images import figures
 from beeoptics.images.display import bee_colours, encode, map3
 from beeoptics.images.viewer import flight_viewer
 from beeoptics.images.fieldmaps import paint
-from beeoptics.api import View, human_srgb, human_view, load_eye, load_scene, look, looks
+from beeoptics.api import View, catches as catches_of, human_srgb, human_view, load_eye, load_scene, look, looks
 from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.imagefile import write_gif, write_mp4
 from beeoptics.io.receptortable import read_receptors
@@ -26,9 +26,8 @@ from beeoptics.io.table import write_table
 from beeoptics.io.validation import config_default
 from beeoptics.pipeline.images import display_words
 from beeoptics.spectra import grid
-from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background
-from beeoptics.vision.receptorset import DEFAULT_CURVES, curves, lacking, ommatidium_types
+from beeoptics.vision.receptorset import DEFAULT_CURVES, lacking, ommatidium_types
 from beeoptics.world.flight import (azimuth_elevation_components, disc_angular_diameter, disc_hits, frame_times,
                                     optic_flow, pose, read_flight)
 
@@ -212,7 +211,6 @@ def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_s
     """
     wl = grid(**spectral)
     table = read_receptors(receptors_csv)
-    sens = curves(receptor_set, wl, receptor_curves)
     absent = lacking(receptor_set, ommatidium_types(receptor_set, len(table.id)))
     centre = np.asarray(target["position_m"], float)
     disc = (centre, np.asarray(target["normal"], float), float(target["radius_m"]))
@@ -226,7 +224,7 @@ def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_s
             toward /= np.linalg.norm(toward, axis=1, keepdims=True)
             alpha = float(np.degrees(disc_angular_diameter(position, *disc)))
             # Catches of the receptors' radiance, not their irradiance: receptors of unequal Δρ compare alike.
-            catches = quantum_catches(share["radiance"][j], sens, wl)
+            catches = catches_of(share["radiance"][j], wl, receptor_set, sensitivities=receptor_curves)
             if absent.size:
                 catches[absent] = np.nan
             cover = share["cover"][j]

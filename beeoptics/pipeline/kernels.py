@@ -18,16 +18,12 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from beeoptics.api import human_view, load_eye, load_scene, look
 from beeoptics.eye.optics import AcceptanceModel
-from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.validation import config_defaults
-from beeoptics.light.batching import TraceSettings
-from beeoptics.light.scene import load_scene
 from beeoptics.pipeline.eyes import build_facets, remesh_eye
 from beeoptics.pipeline.outputs import FACET_OUTPUTS
 from beeoptics.sky.skypolarisation import patterns
-from beeoptics.spectra import grid
-from beeoptics.tracing import render_human, trace_receptors
 
 #: The toy eye: a cap of a sphere 0.8 mm in radius, 300 facets of 40–46 µm (test values, no insect's).
 EYE = {"name": "toy", "description": "A toy eye, only to compile the kernels.", "mesh": "mesh.obj",
@@ -74,8 +70,8 @@ def cap_mesh(radius_mm=0.8, rings=8):
 def compile_kernels():
     """Call every compiled kernel as the stages do, on the toy, so that numba compiles and caches each."""
     config = config_defaults()
-    wl = grid(**config["spectral"])
-    settings = TraceSettings(4, 3, 1, config["trace"]["batch_rays"], 2)
+    # A few samples on two threads, down to the depth at which every kind of surface scatters the light.
+    settings = {"samples": 4, "depth": 3, "seed": 1, "threads": 2}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         (tmp / "mesh.obj").write_text(cap_mesh())
@@ -85,10 +81,9 @@ def compile_kernels():
         remesh_eye(tmp / "eye.yaml", outputs, edge_fraction=config["eye"]["edge_fraction"])
         build_facets(tmp / "eye.yaml", outputs["remeshed"], outputs, tolerance_um=config["eye"]["tolerance_um"],
                      acceptance=AcceptanceModel.from_config(config["eye"]["delta_rho"]))
-        table = read_receptors(outputs["receptors"])
-        scene = load_scene(tmp / "scene.yaml", wl, cache=False)
+        eye = load_eye(outputs["receptors"])
+        scene = load_scene(tmp / "scene.yaml", cache=False)
         for polarised in (False, True):
-            trace_receptors(scene, table, 0, len(table.id), settings, len(wl), polarised=polarised,
-                            target=(np.array([0.3, 0.0, 0.0]), 0.1))
-        render_human(scene, scene.camera, settings, wl)
-        patterns(table.axis, table.axis[:2], np.zeros(2), 1.0)
+            look(eye, scene, polarised=polarised, target=(np.array([0.3, 0.0, 0.0]), 0.1), **settings)
+        human_view(scene, **settings)
+        patterns(eye.table.axis, eye.table.axis[:2], np.zeros(2), 1.0)

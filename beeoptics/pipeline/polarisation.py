@@ -8,9 +8,9 @@ import json
 
 import numpy as np
 
-from beeoptics.eye.description import load_eye
+from beeoptics.api import catches as catches_of, load_eye, load_scene, look, look_cones
+from beeoptics.eye.description import load_eye as describe_eye
 from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
-from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.headframe import head_rotation, in_eye_plane
 from beeoptics.images import figures
 from beeoptics.images.display import polarisation_colours
@@ -21,16 +21,12 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import config_default
-from beeoptics.light.scene import load_scene, raycasting_scene, relit
 from beeoptics.pipeline.logs import log
-from beeoptics.tracing import trace_cones, trace_receptors
 from beeoptics.raycasting import first_hits
 from beeoptics.sky.skypolarisation import patterns
-from beeoptics.spectra import grid
 from beeoptics.vision import compass as sky_compass
-from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.polarisation import DORSAL_RIM_PS, degree_and_angle, head_frame_stokes, receptor_catch
-from beeoptics.vision.receptorset import DEFAULT_CURVES, curves
+from beeoptics.vision.receptorset import DEFAULT_CURVES
 
 #: The colour map of polarisation: hue the angle (0–180°, cyclic), saturation the degree, full value.
 POLARISATION_CAPTION = ("Polarisation each receptor sees, UV receptors' catch: hue is the angle of polarisation about "
@@ -47,13 +43,6 @@ def _dorsal_rim(table, source):
     return table.dorsal_rim.astype(bool)
 
 
-def stokes_catches(stokes, delta_rho_deg, wavelengths, receptor_set, receptor_curves=DEFAULT_CURVES):
-    """Each receptor class's catch of the spectral Stokes vectors (n, 3, wl): (n, classes, 3), in their frame."""
-    sens = curves(receptor_set, wavelengths, receptor_curves)
-    irradiance = stokes * acceptance_solid_angle(delta_rho_deg)[:, None, None]
-    return quantum_catches(irradiance, sens, wavelengths).transpose(0, 2, 1)
-
-
 def _analysers(receptor_set, source):
     """The index of the class whose microvilli analyse polarisation in the dorsal rim (the bee's UV)."""
     if receptor_set.polarisation is None:
@@ -62,7 +51,7 @@ def _analysers(receptor_set, source):
     return receptor_set.polarisation
 
 
-def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral, settings, dorsal_rim_ps,
+def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral, trace, threads, dorsal_rim_ps,
                       receptor_set, width_px=config_default("images.width_px"),
                       field_width_px=MAP_WIDTH_PX, title="", receptor_curves=DEFAULT_CURVES):
     """Trace every receptor's Stokes vector; write the table and maps of the polarisation it sees.
@@ -77,19 +66,23 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
 
     Parameters
     ----------
+    trace : dict
+        A config's ``trace`` section, as every receptor's Stokes vector is traced (:func:`beeoptics.api.look`).
+    threads : int
     dorsal_rim_ps : float
         The dorsal rim UV receptors' polarisation sensitivity (``inf``: ideal analysers);
         the main retina's is 1 (:mod:`beeoptics.vision.polarisation`).
     """
-    wl = grid(**spectral)
-    scene = load_scene(scene_file, wl)
+    scene = load_scene(scene_file, **spectral)
     table = read_receptors(receptors_csv)
     rim = _dorsal_rim(table, receptors_csv)
     a = _analysers(receptor_set, eye_file)
-    radiance, _ = trace_receptors(scene, table, 0, len(table.id), settings, len(wl), polarised=True,
-                                  sensitivities=(wl, curves(receptor_set, wl, receptor_curves)))
-    catches = head_frame_stokes(stokes_catches(radiance, table.delta_rho_deg, wl, receptor_set, receptor_curves),
-                                table.axis)
+    view = look(load_eye(receptors_csv, receptor_set=receptor_set), scene, polarised=True, trace=trace,
+                threads=threads, sensitivities=receptor_curves)
+    # Each class's catch of I, Q and U over the acceptance (n, classes, 3), turned into the head's frame.
+    catches = head_frame_stokes(catches_of(view.stokes, scene.wavelengths_nm, receptor_set,
+                                           sensitivities=receptor_curves,
+                                           delta_rho_deg=table.delta_rho_deg).transpose(0, 2, 1), table.axis)
     degree, angle = degree_and_angle(catches)
     degree = np.where(catches[..., 0] > 0.0, degree, 0.0)  # no light: none of it polarised
     microvilli = np.where(rim, table.microvilli_deg, 0.0)
@@ -112,7 +105,7 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
               f"{name}: degree of polarisation": np.repeat(paint(field.receptor, degree[:, a:a + 1]), 3, -1)}
     figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, None, outputs["field"],
                          f"{title}: polarisation over the visual field")
-    eye = load_eye(eye_file)
+    eye = describe_eye(eye_file)
     xy = retinal_plane(eye, table.position, table.side)
     can = canvas(xy, width_px)
     anterior, dorsal = in_eye_plane(eye.rotation)
@@ -125,7 +118,7 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
                        f"{title}: the dorsal rim's POL units")
 
 
-def compass(receptors_csv, scene_file, outputs, *, spectral, settings,
+def compass(receptors_csv, scene_file, outputs, *, spectral, trace, threads,
             headings=config_default("polarisation.compass.headings"),
             turbidities=config_default("polarisation.compass.turbidities"),
             heights_m=config_default("polarisation.compass.heights_m"), dorsal_rim_ps=DORSAL_RIM_PS, receptor_set,
@@ -142,22 +135,22 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings,
     (into the vegetation, where it hides more of the sky), and the scene at
     each of ``turbidities``. Outputs: ``table`` (CSV, one row per
     condition and heading), ``summary`` (JSON: each condition's median and
-    largest error) and ``figure`` (PNG).
+    largest error) and ``figure`` (PNG). ``trace``, a config's ``trace``
+    section, as the dorsal rim is traced (:func:`beeoptics.api.look_cones`).
     """
-    wl = grid(**spectral)
     table = read_receptors(receptors_csv)
     rim = _dorsal_rim(table, receptors_csv)
     turns = 360.0 * np.arange(headings) / headings
-    a = _analysers(receptor_set, receptors_csv)
-    uv = curves(receptor_set, wl, receptor_curves)[:, a:a + 1]
+    analyser = [receptor_set.classes[_analysers(receptor_set, receptors_csv)]]
     n = int(rim.sum())
-    base = load_scene(scene_file, wl)
-    if base.sun is None or base.sky is None or base.sky.max_degree == 0.0:
+    base = load_scene(scene_file, **spectral)
+    wl, light, head = base.wavelengths_nm, base.scene, base.scene.eye_position
+    if light.sun is None or light.sky is None or light.sky.max_degree == 0.0:
         raise InputError(scene_file, "light", "the compass needs a clear, polarised sky and the sun")
     # The head at every heading (heading, 3, 3); the sun in its frame, and so the template, is the same in
     # every condition, which changes only the sky's polarisation, its turbidity and the bee's height.
-    rotations = np.array([head_rotation(turn, 0.0) @ base.eye_rotation for turn in turns])
-    suns = np.einsum("hji,j->hi", rotations, base.sun.direction)
+    rotations = np.array([head_rotation(turn, 0.0) @ light.eye_rotation for turn in turns])
+    suns = np.einsum("hji,j->hi", rotations, light.sun.direction)
     truth = np.degrees(np.arctan2(suns[:, 1], suns[:, 0]))
     templates = []
     for sun in suns:
@@ -170,52 +163,52 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, settings,
     drho = np.tile(table.delta_rho_deg[rim], headings)
     dorsal = np.repeat(rotations[:, :, 2], n, axis=0)
 
-    def read(scene):
-        rs = raycasting_scene(scene)
-        origins = (np.einsum("nj,hij->hni", table.position[rim] * 1e-3, rotations) + scene.eye_position).reshape(-1, 3)
-        stokes = trace_cones(scene, origins, axes, drho, streams, 0, len(axes), settings, len(wl), rs=rs,
-                             dorsal=dorsal, sensitivities=(wl, uv))[0]
-        catches = head_frame_stokes(quantum_catches(stokes, uv, wl)[..., 0], np.tile(table.axis[rim], (headings, 1)))
+    def read(scene, position):
+        origins = (np.einsum("nj,hij->hni", table.position[rim] * 1e-3, rotations) + position).reshape(-1, 3)
+        stokes = look_cones(scene, origins, axes, drho, streams=streams, receptor_set=receptor_set, classes=analyser,
+                            sensitivities=receptor_curves, trace=trace, threads=threads, dorsal=dorsal).radiance
+        catches = head_frame_stokes(catches_of(stokes, wl, receptor_set, sensitivities=receptor_curves,
+                                               classes=analyser)[..., 0], np.tile(table.axis[rim], (headings, 1)))
         pol = sky_compass.pol_responses(catches, np.tile(table.microvilli_deg[rim], headings), dorsal_rim_ps)
         estimate, confidence = np.array([sky_compass.read_out(p, t, azimuths)
                                          for p, t in zip(pol.reshape(headings, n), templates)]).T
-        hidden = np.isfinite(first_hits(rs, np.hstack([origins, axes]).astype(np.float32))["t_hit"])
+        hidden = np.isfinite(first_hits(scene.raycasting, np.hstack([origins, axes]).astype(np.float32))["t_hit"])
         return estimate, confidence, truth, hidden.reshape(headings, n).mean(axis=1)
 
-    def traced_alike(scene):
+    def traced_alike(scene, position):
         """What a condition is traced as: its light and, among objects, the bee's place (in the open, or a
         scene of none, anywhere). The sky scene's conditions in the scene and the meadow's own turbidity
         are traced once."""
-        light = b"".join(np.asarray(v).tobytes() for part in (scene.sky, scene.sun) for v in part)
-        return light + (scene.eye_position.tobytes() if scene.objects else b"open")
+        lit = b"".join(np.asarray(v).tobytes() for part in (scene.scene.sky, scene.scene.sun) for v in part)
+        return lit + (position.tobytes() if scene.scene.objects else b"open")
 
     # The same light with nothing to hide it.
-    rayleigh = relit(base, wl, {"polarisation": "rayleigh"})._replace(objects=[])
-    conditions = [("Rayleigh sky, open", np.nan, rayleigh), ("clear sky, open", np.nan, base._replace(objects=[])),
-                  ("clear sky, in the scene", np.nan, base)]
-    conditions += [(f"clear sky, in the scene at {h * 100:g} cm", np.nan,
-                    base._replace(eye_position=np.array([*base.eye_position[:2], h]))) for h in heights_m]
-    conditions += [(f"turbidity {t:g}, in the scene", t, relit(base, wl, {"turbidity": t})) for t in turbidities]
+    conditions = [("Rayleigh sky, open", np.nan, base.with_light(polarisation="rayleigh").without_objects(), head),
+                  ("clear sky, open", np.nan, base.without_objects(), head),
+                  ("clear sky, in the scene", np.nan, base, head)]
+    conditions += [(f"clear sky, in the scene at {h * 100:g} cm", np.nan, base, np.array([*head[:2], h]))
+                   for h in heights_m]
+    conditions += [(f"turbidity {t:g}, in the scene", t, base.with_light(turbidity=t), head) for t in turbidities]
     rows = {k: [] for k in ("condition", "turbidity", "max_degree", "heading_deg", "solar_azimuth_deg",
                             "estimate_deg", "error_deg", "confidence", "sky_hidden")}
     summary, read_before = {}, {}
-    for name, turbidity, scene in conditions:
+    for name, turbidity, scene, position in conditions:
         log.info("compass: %s", name)
-        key = traced_alike(scene)
+        key = traced_alike(scene, position)
         if key not in read_before:
-            read_before[key] = read(scene)
+            read_before[key] = read(scene, position)
         estimate, confidence, truth, hidden = read_before[key]
         error = sky_compass.wrap_deg(estimate - truth)
         rows["condition"] += [name] * headings
         rows["turbidity"] += [turbidity] * headings
-        rows["max_degree"] += [scene.sky.max_degree] * headings
+        rows["max_degree"] += [scene.scene.sky.max_degree] * headings
         rows["heading_deg"] += list(turns)
         rows["solar_azimuth_deg"] += list(sky_compass.wrap_deg(truth))
         rows["estimate_deg"] += list(estimate)
         rows["error_deg"] += list(error)
         rows["confidence"] += list(confidence)
         rows["sky_hidden"] += list(hidden)
-        summary[name] = {"max_degree": scene.sky.max_degree, "median_abs_error_deg": float(np.median(np.abs(error))),
+        summary[name] = {"max_degree": scene.scene.sky.max_degree, "median_abs_error_deg": float(np.median(np.abs(error))),
                          "max_abs_error_deg": float(np.abs(error).max()), "sky_hidden": float(np.mean(hidden))}
     write_table(outputs["table"], {k: np.asarray(v) for k, v in rows.items()})
     with atomic_path(outputs["summary"]) as tmp:

@@ -1,4 +1,3 @@
-from beeoptics.light.batching import TraceSettings
 from beeoptics.vision.receptorset import receptor_set_of
 from beeoptics.pipeline.logs import logging_to
 from beeoptics.vision.polarisation import analyser_ps
@@ -8,10 +7,9 @@ pol = snakemake.params.polarisation
 with logging_to(snakemake.log[0]):
     polarisation_maps(snakemake.params.eye, snakemake.input.receptors, snakemake.params.scene, snakemake.output,
                       spectral=snakemake.params.spectral,
-                      settings=TraceSettings.from_config(snakemake.params.trace, snakemake.threads,
-                                                         pol["samples_per_receptor"],
-                                                         receptor_set_of(snakemake.params.eye)),
-                      dorsal_rim_ps=analyser_ps(pol["dorsal_rim_ps"]), width_px=snakemake.params.images["width_px"],
+                      trace={**snakemake.params.trace, "samples_per_receptor": pol["samples_per_receptor"]},
+                      threads=snakemake.threads, dorsal_rim_ps=analyser_ps(pol["dorsal_rim_ps"]),
+                      width_px=snakemake.params.images["width_px"],
                       field_width_px=snakemake.params.images["visual_field_width_px"],
                       title=f"{snakemake.wildcards.eye} in {snakemake.wildcards.scene}",
                       receptor_set=receptor_set_of(snakemake.params.eye), receptor_curves=snakemake.params.receptor_curves)
