@@ -74,11 +74,11 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
         the main retina's is 1 (:mod:`beeoptics.vision.polarisation`).
     """
     scene = load_scene(scene_file, **spectral)
-    table = read_receptors(receptors_csv)
+    eye = load_eye(receptors_csv, receptor_set=receptor_set)
+    table = eye.table
     rim = _dorsal_rim(table, receptors_csv)
     a = _analysers(receptor_set, eye_file)
-    view = look(load_eye(receptors_csv, receptor_set=receptor_set), scene, polarised=True, trace=trace,
-                threads=threads, sensitivities=receptor_curves)
+    view = look(eye, scene, polarised=True, trace=trace, threads=threads, sensitivities=receptor_curves)
     # Each class's catch of I, Q and U over the acceptance (n, classes, 3), turned into the head's frame.
     catches = head_frame_stokes(catches_of(view.stokes, scene.wavelengths_nm, receptor_set,
                                            sensitivities=receptor_curves,
@@ -105,10 +105,10 @@ def polarisation_maps(eye_file, receptors_csv, scene_file, outputs, *, spectral,
               f"{name}: degree of polarisation": np.repeat(paint(field.receptor, degree[:, a:a + 1]), 3, -1)}
     figures.visual_field(panels, field.eyes, field.azimuth_deg, field.elevation_deg, None, outputs["field"],
                          f"{title}: polarisation over the visual field")
-    eye = describe_eye(eye_file)
-    xy = retinal_plane(eye, table.position, table.side)
+    description = describe_eye(eye_file)
+    xy = retinal_plane(description, table.position, table.side)
     can = canvas(xy, width_px)
-    anterior, dorsal = in_eye_plane(eye.rotation)
+    anterior, dorsal = in_eye_plane(description.rotation)
     figures.retinas([(paint(nearest_receptor(can, xy, table.side), colours), outputs["retina"],
                       f"{title}: polarisation in the retinal plane", POLARISATION_CAPTION, None)],
                     panel_extents(can), anterior, dorsal)
@@ -144,13 +144,13 @@ def compass(receptors_csv, scene_file, outputs, *, spectral, trace, threads,
     analyser = [receptor_set.classes[_analysers(receptor_set, receptors_csv)]]
     n = int(rim.sum())
     base = load_scene(scene_file, **spectral)
-    wl, light, head = base.wavelengths_nm, base.scene, base.scene.eye_position
-    if light.sun is None or light.sky is None or light.sky.max_degree == 0.0:
+    wl, loaded, head = base.wavelengths_nm, base.scene, base.scene.eye_position
+    if loaded.sun is None or loaded.sky is None or loaded.sky.max_degree == 0.0:
         raise InputError(scene_file, "light", "the compass needs a clear, polarised sky and the sun")
     # The head at every heading (heading, 3, 3); the sun in its frame, and so the template, is the same in
     # every condition, which changes only the sky's polarisation, its turbidity and the bee's height.
-    rotations = np.array([head_rotation(turn, 0.0) @ light.eye_rotation for turn in turns])
-    suns = np.einsum("hji,j->hi", rotations, light.sun.direction)
+    rotations = np.array([head_rotation(turn, 0.0) @ loaded.eye_rotation for turn in turns])
+    suns = np.einsum("hji,j->hi", rotations, loaded.sun.direction)
     truth = np.degrees(np.arctan2(suns[:, 1], suns[:, 0]))
     templates = []
     for sun in suns:
