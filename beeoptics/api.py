@@ -46,7 +46,7 @@ from beeoptics.pipeline.outputs import channel, retinal_images as retinal_output
 from beeoptics.raycasting import first_hits
 from beeoptics.sky.dome import white_radiance
 from beeoptics.spectra import grid
-from beeoptics.tracing import human_srgb, render_human, respond, trace_cones, trace_receptors
+from beeoptics.tracing import class_catches, human_srgb, render_human, respond, trace_cones, trace_receptors
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import (DEFAULT_CURVES, DEFAULT_SET, ReceptorSet, curves, lacking, load_receptor_set,
                                           ommatidium_names, ommatidium_types, receptor_set_of)
@@ -339,7 +339,7 @@ class View:
         self.replicate_catches, self.samples, self.radiance_se = replicate_catches, samples, radiance_se
         self.background, self.sensitivities = background, sensitivities
         self.stokes, self.cover, self.counts = stokes, cover, counts or {}
-        self._relative, self._responses = relative, None
+        self._relative, self._responses, self._catches = relative, None, None
 
     def _respond(self):
         if self._responses is None:
@@ -383,15 +383,30 @@ class View:
         hits = first_hits(self.scene.raycasting, np.column_stack([origins, axes]).astype(np.float32))
         return hits["t_hit"].astype(np.float64)
 
+    def class_catches(self):
+        """Each receptor's quantum catch of each class of the eye's receptor set (photons m⁻² s⁻¹, as
+        ``responses.csv``; NaN for a class its ommatidium lacks) and their standard errors (None without the
+        trace's replicates): ndarrays (receptors, classes), without the colour the tables add (what a closed
+        loop observes, :class:`beeoptics.loop.BeeView`)."""
+        if self._catches is None:
+            rset = self.eye.receptor_set
+            self._catches = class_catches(self.eye.table, self.radiance, self.wavelengths_nm, rset,
+                                          curves(rset, self.wavelengths_nm, self.sensitivities),
+                                          self.replicate_catches)[:2]
+        return self._catches
+
     @property
     def catches(self):
         """A row per receptor: ``id``, ``side``, ``azimuth_deg``, ``elevation_deg`` (:attr:`directions`), the
         quantum catch of each receptor class (photons m⁻² s⁻¹, as ``responses.csv``) and each one's standard
         error (``se_<class>``, over the trace's replicates) (pandas DataFrame)."""
-        columns = self.columns
-        catch = [c for k in self.eye.receptor_set.classes for c in (k, f"se_{k}") if c in columns]
-        return pd.DataFrame({"id": columns["id"], "side": columns["side"], **self.directions,
-                             **{c: columns[c] for c in catch}})
+        catches, se = self.class_catches()
+        table = {"id": self.eye.table.id, "side": self.eye.table.side, **self.directions}
+        for k, r in enumerate(self.eye.receptor_set.classes):
+            table[r] = catches[:, k]
+            if se is not None:
+                table[f"se_{r}"] = se[:, k]
+        return pd.DataFrame(table)
 
     @property
     def colour(self):

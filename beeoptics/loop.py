@@ -208,15 +208,8 @@ class BeeView(gym.Env):
                     samples=self.samples, depth=self.depth, seed=int(self.np_random.integers(2**31)),
                     threads=self.threads)
 
-        seen = view.catches  # a table made on first use: read once
-
-        def table(names):
-            return np.nan_to_num(seen[names].to_numpy(np.float32), nan=0.0)
-
-        catches = table(self.classes)
-        if self.errors:
-            return {"catches": catches, "se": table([f"se_{k}" for k in self.classes])}, view
-        return catches, view
+        catches, se = (np.nan_to_num(v, nan=0.0).astype(np.float32) for v in view.class_catches())
+        return ({"catches": catches, "se": se} if self.errors else catches), view
 
     def _info(self, met):
         return {"position_m": self._position.copy(), "heading_deg": self._heading, "met": met,

@@ -191,6 +191,37 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     return (radiance, counts) if target is None else (radiance, counts, cover)
 
 
+def class_catches(table, radiance, wl, receptor_set, sensitivities, replicate_catches=None):
+    """Every receptor's catch of each class (photons m⁻² s⁻¹, :func:`respond`'s), NaN for a class its
+    ommatidium lacks, and the catches' standard errors over the trace's replicates: what a look's catches
+    table holds, without the colour that :func:`respond` adds.
+
+    Parameters
+    ----------
+    radiance : ndarray (n, wavelengths)
+        Each receptor's mean spectral radiance, W m⁻² sr⁻¹ nm⁻¹.
+    sensitivities : ndarray (wavelengths, classes)
+        The set's curves on ``wl`` (:func:`beeoptics.vision.receptorset.curves`).
+    replicate_catches : ndarray (n, K, classes), optional
+        The trace's replicate catches (:func:`trace_cones`).
+
+    Returns
+    -------
+    catches : ndarray (n, classes)
+    se : ndarray (n, classes) or None
+        None without replicates.
+    replicates : ndarray (n, K, classes) or None
+        ``replicate_catches`` with the lacking classes NaN, as the colour's errors take them.
+    """
+    omega = acceptance_solid_angle(table.delta_rho_deg)
+    catches = quantum_catches(radiance * omega[:, None], sensitivities, wl)
+    catches[lacking(receptor_set, ommatidium_types(receptor_set, len(table.id)))] = np.nan
+    if replicate_catches is None:
+        return catches, None, None
+    replicate_catches = np.where(np.isnan(catches)[:, None, :], np.nan, replicate_catches)
+    return catches, standard_error(replicate_catches), replicate_catches
+
+
 def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=config_default("colour.background"),
             receptor_curves=DEFAULT_CURVES, replicate_catches=None):
     """Every receptor's catches and colour coordinates from its spectral radiance (n, wavelengths) on the grid ``wl``.
@@ -218,12 +249,11 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     beside it, ``se_<column>`` (:func:`beeoptics.vision.uncertainty.colour_columns`;
     empty where one replicate gives none, or the receptor lacks the class).
     """
-    omega = acceptance_solid_angle(table.delta_rho_deg)
     sens = curves(receptor_set, wl, receptor_curves)
+    catches, se, replicate_catches = class_catches(table, radiance, wl, receptor_set, sens, replicate_catches)
+    omega = acceptance_solid_angle(table.delta_rho_deg)
     irradiance = radiance * omega[:, None]
-    catches = quantum_catches(irradiance, sens, wl)
     types = ommatidium_types(receptor_set, len(table.id))
-    catches[lacking(receptor_set, types)] = np.nan
     seen = catches / omega[:, None]
     # A white Lambertian surface under the scene's sky and sun: what a named
     # background reflects, and the photon flux of the spectral locus's lights.
@@ -241,9 +271,6 @@ def respond(table, radiance, scene, wl, scene_file, *, receptor_set, background=
     if types is not None:
         columns["ommatidium"] = ommatidium_names(receptor_set, types)
     columns["acceptance_sr"] = omega
-    if replicate_catches is not None:
-        replicate_catches = np.where(np.isnan(catches)[:, None, :], np.nan, replicate_catches)
-    se = None if replicate_catches is None else standard_error(replicate_catches)
     for k, r in enumerate(receptor_set.classes):
         columns[r] = catches[:, k]
         if se is not None:

@@ -72,6 +72,10 @@ def test_a_look_gives_the_bytes_render_writes(built, eye, view, tmp_path):
     classes = list(eye.receptor_set.classes)
     assert list(view.catches.columns) == ["id", "side", "azimuth_deg", "elevation_deg",
                                           *[c for k in classes for c in (k, f"se_{k}")]]
+    # Made without the colour, the catches are the table's to the last bit.
+    catches = view.catches
+    for column in [c for k in classes for c in (k, f"se_{k}")]:
+        np.testing.assert_array_equal(catches[column], view.table()[column])
     assert {"hex_x", "se_hex_x", "coc_A", "rnl_dS", "se_rnl_dS"} <= set(view.colour.columns)
 
 

@@ -147,8 +147,11 @@ def trace_bundles(trace, first, last, settings, columns, samples, replicates, pr
     whole = samples <= SAMPLE_BLOCK
     means, weights = np.zeros((n * r, columns)), np.zeros(n * r)
     done = 0
+    # A trace of fewer rays than the threads' batches hold is shared among them all (a closed loop's look of
+    # a few samples a receptor would otherwise be one batch, shaded on one thread): the split moves no result.
+    batch_rays = min(settings.batch_rays, max(SAMPLE_BLOCK, -(-int(samples.sum()) * r // max(1, settings.threads))))
     with ThreadPoolExecutor(max(1, settings.threads)) as pool:
-        batches = _batches(first, samples, replicates, settings.batch_rays)
+        batches = _batches(first, samples, replicates, batch_rays)
         queue = deque()
         try:
             while True:
@@ -165,16 +168,20 @@ def trace_bundles(trace, first, last, settings, columns, samples, replicates, pr
                 rows = bundle * r + position[start >> REPLICATE_SHIFT]
                 mean = np.concatenate([m for _, m, _ in results])
                 one = whole[bundle]
-                # A replicate traced in one block keeps its mean as traced, to the last bit.
-                means[rows[one]] = mean[one]
-                # A replicate's blocks are summed in the order of their samples, whichever batches
-                # they came in: batches arrive in order, and within one np.add.at adds repeated
-                # rows in the order given.
-                weight = np.concatenate([w for _, _, w in results])
-                order = np.lexsort((start, rows))
-                order = order[~one[order]]
-                np.add.at(means, rows[order], (mean * weight[:, None])[order])
-                np.add.at(weights, rows[order], weight[order])
+                if one.all():
+                    # Every replicate in one block (few samples a bundle): each keeps its mean as traced.
+                    means[rows] = mean
+                else:
+                    # A replicate traced in one block keeps its mean as traced, to the last bit.
+                    means[rows[one]] = mean[one]
+                    # A replicate's blocks are summed in the order of their samples, whichever batches
+                    # they came in: batches arrive in order, and within one np.add.at adds repeated
+                    # rows in the order given.
+                    weight = np.concatenate([w for _, _, w in results])
+                    order = np.lexsort((start, rows))
+                    order = order[~one[order]]
+                    np.add.at(means, rows[order], mean[order] * weight[order, None])
+                    np.add.at(weights, rows[order], weight[order])
                 done = max(done, int(bundle.max()) + 1)
                 if progress is not None:
                     progress(done, n)

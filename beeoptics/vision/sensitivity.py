@@ -38,6 +38,9 @@ Maia R, Gruson H, Endler JA, White TE (2019) pavo 2. Methods Ecol Evol
 10:1097–1107.
 """
 
+import functools
+import os
+
 import numpy as np
 
 from beeoptics.io.errors import InputError
@@ -107,7 +110,21 @@ def measured_sensitivities(path, wavelengths, classes, lambda_max=None):
         everywhere, or the columns' peaks are not in the order of the
         classes' λmax; and as :func:`~beeoptics.spectra.read_pavo_csv` does.
     """
-    names, wl, values = read_pavo_csv(path, wavelengths)
+    try:
+        stamp = os.stat(path)
+        stamp = (stamp.st_ino, stamp.st_mtime_ns, stamp.st_size)
+    except OSError:
+        stamp = None  # read_pavo_csv names the missing file in one line
+    # A loop of looks reads the same curves at every look: a file is read once per version of it.
+    return _measured(str(path), stamp, np.asarray(wavelengths, float).tobytes(), tuple(classes),
+                     None if lambda_max is None else tuple(lambda_max)).copy()
+
+
+@functools.lru_cache(maxsize=16)
+def _measured(path, stamp, wavelengths, classes, lambda_max):
+    """:func:`measured_sensitivities` of a file at one version (``stamp``: its inode, time and size), the grid
+    as bytes."""
+    names, wl, values = read_pavo_csv(path, np.frombuffer(wavelengths))
     if len(names) != len(classes):
         raise InputError(path, ", ".join(names), f"expected {len(classes)} receptor columns "
                          f"({', '.join(classes)}), found {len(names)}")
