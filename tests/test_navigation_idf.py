@@ -14,13 +14,17 @@ def synthetic():
     """An eye of 300 receptors of Δρ 10° looking all round, and a map of two classes: smooth blobs of light."""
     rng = np.random.default_rng(4)
     axes = rng.normal(size=(300, 3))
-    eye = SimpleNamespace(table=SimpleNamespace(axis=axes / np.linalg.norm(axes, axis=1)[:, None],
-                                                delta_rho_deg=np.full(300, 10.0)),
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    # Facets 1.5 mm out along their axes and 0.5 mm across: a map of surfaces some 10 cm away turns their kernels.
+    across = np.cross(axes, rng.normal(size=(300, 3)))
+    position = 1.5 * axes + 0.5 * across / np.linalg.norm(across, axis=1)[:, None]
+    eye = SimpleNamespace(table=SimpleNamespace(axis=axes, position=position, delta_rho_deg=np.full(300, 10.0)),
                           receptor_set=SimpleNamespace(classes=("UV", "G"), lambda_max_nm=np.array([344.0, 544.0]),
                                                        achromatic=1))
     n = len(envmap.ring_grid(SPACING_DEG, STEP_DEG).directions)
+    nearness = 10.0 * (1.0 + rng.uniform(size=n))
     env = envmap.EnvironmentMap(np.zeros(3), SPACING_DEG, STEP_DEG, np.zeros(1), np.zeros((n, 1)), np.zeros((n, 2)),
-                                np.zeros((n, 2)), np.zeros((1, 2)), 8, 1, 1)
+                                np.zeros((n, 2)), np.zeros((1, 2)), nearness, 8, 1, 1)
     centres = rng.normal(size=(12, 3))
     centres /= np.linalg.norm(centres, axis=1)[:, None]
     blobs = np.exp(8.0 * (env.grid.directions @ centres.T - 1.0))
