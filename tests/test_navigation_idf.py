@@ -44,13 +44,12 @@ def test_turned_views_are_the_resampled_ones_and_the_ridf_finds_the_turn():
                                    envmap.resampled_catches(env, eye, heading_deg=heading, q=q)[0], rtol=1e-12)
     # Against itself the rIDF is 0 at heading 0; against the view turned by 120° its minimum, 0, is at 120°.
     for reference in (0, 24):
-        s = idf.signals(views, eye.receptor_set, views[reference])
-        r = idf.signals(views[reference], eye.receptor_set, views[reference])
-        for name in idf.signal_names(eye.receptor_set):
-            ridf = idf.image_difference(s[name], r[name])
+        ridfs = idf.ridf(views, views[reference], eye.receptor_set)
+        assert list(ridfs) == list(idf.signal_names(eye.receptor_set))
+        for ridf in ridfs.values():
             assert ridf[reference] == 0.0 and np.argmin(ridf) == reference and ridf.min(initial=1.0) == 0.0
             assert np.all(np.delete(ridf, reference) > 0.0)
-    heading, depth, width = idf.valley(idf.image_difference(s["UV-G"], r["UV-G"]), STEP_DEG)
+    heading, depth, width = idf.valley(ridfs["UV-G"], STEP_DEG)
     assert heading == 120.0 and depth == 1.0 and 0.0 < width < 180.0
 
 

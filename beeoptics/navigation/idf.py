@@ -224,6 +224,30 @@ def image_difference(views, reference):
     return np.sqrt(np.nanmean((np.asarray(views) - reference) ** 2, axis=-1))
 
 
+def ridf(views, reference, receptor_set):
+    """The rotational image-difference function in every signal (Zeil et al. 2003): each view's difference
+    from the reference view.
+
+    Parameters
+    ----------
+    views : ndarray (headings, receptors, k)
+        An eye's catches at one place at every heading (:func:`turned_catches`), or any stack of views.
+    reference : ndarray (receptors, k)
+        The remembered view's catches (a snapshot: a place's view at one heading).
+    receptor_set : ReceptorSet
+        The eye's (its classes and achromatic class).
+
+    Returns
+    -------
+    dict of str to ndarray (headings,)
+        By :func:`signal_names`: :func:`image_difference` of the views'
+        :func:`signals` against the reference's, in the signal's units;
+        its minimum's heading points home.
+    """
+    seen, remembered = signals(views, receptor_set, reference), signals(reference, receptor_set, reference)
+    return {name: image_difference(seen[name], remembered[name]) for name in seen}
+
+
 def valley(ridf, heading_step_deg=1.0):
     """The rIDF's minimum: its heading, depth and width (the module's definitions).
 
