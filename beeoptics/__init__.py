@@ -20,15 +20,14 @@ Python, :func:`load_eye`, :func:`load_scene`, :func:`look`, :func:`looks` and :f
 
 __version__ = "0.1.0"
 
-#: The Python API (:mod:`beeoptics.api`), imported on first use so that ``import beeoptics`` (and the
+from beeoptics._exports import exports
+
+#: The Python API (:mod:`beeoptics.api`), and the views for navigation a homing agent needs
+#: (:mod:`beeoptics.navigation`: a place's environment map, its views at every heading or one pose, the rIDF
+#: against a snapshot, a grid's catchment area), imported on first use so that ``import beeoptics`` (and the
 #: command line's ``--help``) stays quick.
-__all__ = ["load_eye", "load_scene", "look", "looks", "human_view", "human_srgb", "Eye", "Scene", "View", "look_cones",
-           "Cones", "catches", "cone_rays"]
-
-
-def __getattr__(name):
-    if name in __all__:
-        from beeoptics import api
-
-        return getattr(api, name)
-    raise AttributeError(f"module 'beeoptics' has no attribute {name!r}")
+__all__, __getattr__ = exports(__name__, {
+    "api": ("load_eye", "load_scene", "look", "looks", "human_view", "human_srgb", "Eye", "Scene", "View",
+            "look_cones", "Cones", "catches", "cone_rays"),
+    "navigation": ("environment_map", "turned_catches", "resampled_catches", "ridf", "catchment"),
+})

@@ -14,13 +14,17 @@ def synthetic():
     """An eye of 300 receptors of Δρ 10° looking all round, and a map of two classes: smooth blobs of light."""
     rng = np.random.default_rng(4)
     axes = rng.normal(size=(300, 3))
-    eye = SimpleNamespace(table=SimpleNamespace(axis=axes / np.linalg.norm(axes, axis=1)[:, None],
-                                                delta_rho_deg=np.full(300, 10.0)),
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    # Facets 1.5 mm out along their axes and 0.5 mm across: a map of surfaces some 10 cm away turns their kernels.
+    across = np.cross(axes, rng.normal(size=(300, 3)))
+    position = 1.5 * axes + 0.5 * across / np.linalg.norm(across, axis=1)[:, None]
+    eye = SimpleNamespace(table=SimpleNamespace(axis=axes, position=position, delta_rho_deg=np.full(300, 10.0)),
                           receptor_set=SimpleNamespace(classes=("UV", "G"), lambda_max_nm=np.array([344.0, 544.0]),
                                                        achromatic=1))
     n = len(envmap.ring_grid(SPACING_DEG, STEP_DEG).directions)
+    nearness = 10.0 * (1.0 + rng.uniform(size=n))
     env = envmap.EnvironmentMap(np.zeros(3), SPACING_DEG, STEP_DEG, np.zeros(1), np.zeros((n, 1)), np.zeros((n, 2)),
-                                np.zeros((n, 2)), np.zeros((1, 2)), 8, 1, 1)
+                                np.zeros((n, 2)), np.zeros((1, 2)), nearness, 8, 1, 1)
     centres = rng.normal(size=(12, 3))
     centres /= np.linalg.norm(centres, axis=1)[:, None]
     blobs = np.exp(8.0 * (env.grid.directions @ centres.T - 1.0))
@@ -40,13 +44,12 @@ def test_turned_views_are_the_resampled_ones_and_the_ridf_finds_the_turn():
                                    envmap.resampled_catches(env, eye, heading_deg=heading, q=q)[0], rtol=1e-12)
     # Against itself the rIDF is 0 at heading 0; against the view turned by 120° its minimum, 0, is at 120°.
     for reference in (0, 24):
-        s = idf.signals(views, eye.receptor_set, views[reference])
-        r = idf.signals(views[reference], eye.receptor_set, views[reference])
-        for name in idf.signal_names(eye.receptor_set):
-            ridf = idf.image_difference(s[name], r[name])
+        ridfs = idf.ridf(views, views[reference], eye.receptor_set)
+        assert list(ridfs) == list(idf.signal_names(eye.receptor_set))
+        for ridf in ridfs.values():
             assert ridf[reference] == 0.0 and np.argmin(ridf) == reference and ridf.min(initial=1.0) == 0.0
             assert np.all(np.delete(ridf, reference) > 0.0)
-    heading, depth, width = idf.valley(idf.image_difference(s["UV-G"], r["UV-G"]), STEP_DEG)
+    heading, depth, width = idf.valley(ridfs["UV-G"], STEP_DEG)
     assert heading == 120.0 and depth == 1.0 and 0.0 < width < 180.0
 
 

@@ -69,23 +69,26 @@ import numpy as np
 from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.io.errors import InputError
 from beeoptics.jit import kernel
-from beeoptics.navigation.envmap import eye_weights, map_catches
+from beeoptics.navigation.envmap import eye_weights, map_catches, parallax_corrected
 from beeoptics.vision.colourspace import excitation
 
 
 @kernel
-def _turned_sums(indptr, start, weight, table, length, rows):
-    """Receptors ``rows``' weighted sums of the map at every turn, (rows, ``length``): nonzero p adds its weight
-    times ``table[start[p]:start[p] + length]``, the map's values at its direction turned through every heading
-    (laid out so by :func:`turned_catches`). Each receptor's sum runs in the same order always: the same bits
-    for any split of the receptors among threads."""
-    out = np.zeros((len(rows), length))
+def _turned_sums(indptr, start, weights, table, length, rows):
+    """Receptors ``rows``' weighted sums of the map at every turn, (matrices, rows, ``length``): entry p of each
+    matrix (rows of ``weights``, of one sparsity) adds its weight times ``table[start[p]:start[p] + length]``,
+    the map's values at its direction turned through every heading (laid out so by :func:`turned_catches`).
+    Each receptor's sum runs in the same order always: the same bits for any split of the receptors among
+    threads."""
+    out = np.zeros((len(weights), len(rows), length))
     for n in range(len(rows)):
         i = rows[n]
         for p in range(indptr[i], indptr[i + 1]):
-            w, first = weight[p], start[p]
-            for j in range(length):
-                out[n, j] += w * table[first + j]
+            first = start[p]
+            for m in range(len(weights)):
+                w = weights[m, p]
+                for j in range(length):
+                    out[m, n, j] += w * table[first + j]
     return out
 
 
@@ -99,8 +102,10 @@ def turned_catches(env, eye, *, heading_step_deg=1.0, pitch_deg=0.0, roll_deg=0.
     directions are laid out as (turn, the ring's count over the turn's
     steps), so that turning is a shift along the first axis, and every
     heading's view is the one resampling matrix applied to shifted slices,
-    all headings in one compiled pass (3 × 10⁹ multiply-adds for the worker's
-    360 headings: 7 s on one core of this machine) rather than 360 sparse products.
+    all headings in one compiled pass rather than 360 sparse products: the
+    kernel's and its parallax's sums of the map's catches and nearness
+    (:func:`beeoptics.navigation.envmap.parallax_corrected`), 8 × 10⁹
+    multiply-adds for the worker's 360 headings.
 
     Parameters
     ----------
@@ -110,7 +115,7 @@ def turned_catches(env, eye, *, heading_step_deg=1.0, pitch_deg=0.0, roll_deg=0.
         Degrees between headings, a whole multiple of the map's heading step; the headings are 0, it, 2 it, …
     pitch_deg, roll_deg : float
         The head's pitch and roll, degrees.
-    weights : scipy.sparse matrix, optional
+    weights : Weights, optional
         :func:`beeoptics.navigation.envmap.eye_weights` at this pitch and
         roll, heading 0 (the same for every map of one grid: built once).
     q : (ndarray, ndarray), optional
@@ -131,7 +136,8 @@ def turned_catches(env, eye, *, heading_step_deg=1.0, pitch_deg=0.0, roll_deg=0.
                          f"map's heading step {env.heading_step_deg}° dividing 360°")
     grid = env.grid
     weights = eye_weights(env, eye, pitch_deg=pitch_deg, roll_deg=roll_deg) if weights is None else weights
-    q = (map_catches(env, eye) if q is None else q)[0]
+    # The nearness beside the catches: both turn alike.
+    q = np.column_stack([(map_catches(env, eye) if q is None else q)[0], env.nearness])
     step, k = round(steps), q.shape[1]
     turns = turn // step
     # Ring r's direction j is (u, v) = (j // m_r, j % m_r), m_r its count over the turn: a turn by t map steps
@@ -146,17 +152,19 @@ def turned_catches(env, eye, *, heading_step_deg=1.0, pitch_deg=0.0, roll_deg=0.
     table = table.reshape(turns, step, len(v), k).transpose(2, 1, 0, 3)
     table = np.ascontiguousarray(np.concatenate([table, table], axis=2)).ravel()
     rings = np.repeat(np.arange(len(per)), grid.counts)
-    r = rings[weights.indices]
-    j = weights.indices - starts[r]
+    r = rings[weights.kernel.indices]
+    j = weights.kernel.indices - starts[r]
     u, column = j // per[r], first[r] + j % per[r]
     start = (((column * step + u % step) * 2 * turns) + u // step) * k
     # The kernel holds no GIL: the receptors split among threads, each its own rows.
-    parts = np.array_split(np.arange(weights.shape[0]), threads or os.cpu_count())
+    both = np.stack([weights.kernel.data, weights.parallax.data])
+    parts = np.array_split(np.arange(weights.kernel.shape[0]), threads or os.cpu_count())
     with ThreadPoolExecutor(len(parts)) as pool:
-        sums = list(pool.map(lambda rows: _turned_sums(weights.indptr, start, weights.data, table, turns * k, rows),
+        sums = list(pool.map(lambda rows: _turned_sums(weights.kernel.indptr, start, both, table, turns * k, rows),
                              parts))
-    sums = np.concatenate(sums).reshape(-1, turns, k)
-    return (acceptance_solid_angle(eye.table.delta_rho_deg)[:, None, None] * sums).transpose(1, 0, 2)
+    sums = np.concatenate(sums, axis=1).reshape(2, -1, turns, k)
+    catches = parallax_corrected(sums[0], sums[1][..., :-1])
+    return (acceptance_solid_angle(eye.table.delta_rho_deg)[:, None, None] * catches).transpose(1, 0, 2)
 
 
 def signal_names(receptor_set):
@@ -214,6 +222,30 @@ def image_difference(views, reference):
         receptors where either is NaN left out.
     """
     return np.sqrt(np.nanmean((np.asarray(views) - reference) ** 2, axis=-1))
+
+
+def ridf(views, reference, receptor_set):
+    """The rotational image-difference function in every signal (Zeil et al. 2003): each view's difference
+    from the reference view.
+
+    Parameters
+    ----------
+    views : ndarray (headings, receptors, k)
+        An eye's catches at one place at every heading (:func:`turned_catches`), or any stack of views.
+    reference : ndarray (receptors, k)
+        The remembered view's catches (a snapshot: a place's view at one heading).
+    receptor_set : ReceptorSet
+        The eye's (its classes and achromatic class).
+
+    Returns
+    -------
+    dict of str to ndarray (headings,)
+        By :func:`signal_names`: :func:`image_difference` of the views'
+        :func:`signals` against the reference's, in the signal's units;
+        its minimum's heading points home.
+    """
+    seen, remembered = signals(views, receptor_set, reference), signals(reference, receptor_set, reference)
+    return {name: image_difference(seen[name], remembered[name]) for name in seen}
 
 
 def valley(ridf, heading_step_deg=1.0):

@@ -120,15 +120,14 @@ def eye_differences(maps, eye, reference, navigation, threads=None):
     at = round(heading / step)
     own = turned(maps[reference], eye, weights, step, threads)
     base = own[at]
-    ref = idf.signals(base, eye.receptor_set, base)
     names = [s for s in idf.signal_names(eye.receptor_set) if s in navigation["signals"]]
     ridf = {s: [] for s in names}
     # Place by place: a place's views at every heading are (headings × receptors × classes), some 100 MB.
     for place, env in enumerate(maps):
         views = own if place == reference else turned(env, eye, weights, step, threads)
-        views = idf.signals(views, eye.receptor_set, base)
+        differences = idf.ridf(views, base, eye.receptor_set)
         for s in names:
-            ridf[s].append(idf.image_difference(views[s], ref[s]))
+            ridf[s].append(differences[s])
     ridf = {s: np.array(v) for s, v in ridf.items()}
     return ridf, {s: idf.valley(v, step) for s, v in ridf.items()}
 
