@@ -206,6 +206,11 @@ class Scene:
         self.path, self.wavelengths_nm, self.scene, self.light = Path(path), wavelengths_nm, scene, light
         self._rs = rs
 
+    def __deepcopy__(self, memo):
+        # A scene is never changed in place (with_light makes another) and its Embree scene cannot be copied:
+        # a deep copy (gymnasium.make copies an environment's arguments) is the scene itself, as a tuple's is.
+        return self
+
     @functools.cached_property
     def head(self):
         """The scene file's ``eye`` section, checked: the head's own pose, which a look's pose completes. Read
@@ -433,7 +438,7 @@ class View:
         return bee_colours(catches, self.spectra["white_q"], self.wavelengths_nm, self.radiance,
                            self.eye.receptor_set.display)
 
-    def images(self, *, width_px=None, field_width_px=None):
+    def images(self, *, width_px=None, field_width_px=None, retina=True):
         """The view's images as arrays, as the workflow draws them (``beeoptics/images/``).
 
         Parameters
@@ -442,6 +447,8 @@ class View:
             Each eye's panel in the retinal images, pixels (``images.width_px``).
         field_width_px : int, optional
             The visual-field maps' width, pixels (``images.visual_field_width_px``); their height is half.
+        retina : bool
+            The retinal images too (where the eye has its ``eye.yaml``); without them, the visual field's alone.
 
         Returns
         -------
@@ -457,9 +464,9 @@ class View:
         """
         field, maps = self._field(field_width_px)
         out = {**{f"field_{k}": v for k, v in maps.items()}, "field_eyes": field.eyes}
-        if self.eye.eye_file is not None:
-            retina = self._retina(width_px)
-            out.update({**retina.images, **{channel(k): v for k, v in retina.channels.items()}})
+        if retina and self.eye.eye_file is not None:
+            drawn = self._retina(width_px)
+            out.update({**drawn.images, **{channel(k): v for k, v in drawn.channels.items()}})
         return out
 
     def _field(self, width_px):

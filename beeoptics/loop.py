@@ -111,6 +111,8 @@ class BeeView(gym.Env):
         Steps before an episode is truncated.
     threads : int, optional
         Threads tracing each look; all cores by default. The observations do not depend on it.
+    render_mode : {None, "rgb_array"}
+        ``"rgb_array"``: :meth:`render` draws the last look's visual field.
 
     Attributes
     ----------
@@ -127,10 +129,13 @@ class BeeView(gym.Env):
         clipped to it.
     """
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 1.0 / STEP_S}
 
     def __init__(self, eye, scene, *, target_m=None, reward=None, terminated=None, samples=16, depth=1,
-                 errors=False, climb=False, step_s=STEP_S, max_steps=200, threads=None):
+                 errors=False, climb=False, step_s=STEP_S, max_steps=200, threads=None, render_mode=None):
+        if render_mode not in (None, *self.metadata["render_modes"]):
+            raise InputError("BeeView", "render_mode", f"{render_mode!r}: None or 'rgb_array'")
+        self.render_mode = render_mode
         if reward is None and target_m is None:
             raise InputError("BeeView", "target_m", "the default reward approaches a target: give one, or a reward")
         if not (np.isfinite(step_s) and step_s > 0):
@@ -208,8 +213,18 @@ class BeeView(gym.Env):
                     samples=self.samples, depth=self.depth, seed=int(self.np_random.integers(2**31)),
                     threads=self.threads)
 
+        self._view = view
         catches, se = (np.nan_to_num(v, nan=0.0).astype(np.float32) for v in view.class_catches())
         return ({"catches": catches, "se": se} if self.errors else catches), view
+
+    def render(self):
+        """With ``render_mode="rgb_array"``, the last look's visual field of both eyes in the bee's colours
+        (map3, equirectangular: azimuth +180° to −180° left to right, elevation +90° to −90° top to bottom;
+        :meth:`beeoptics.View.images`), (h, w, 3) uint8, black where no receptor sees; otherwise None."""
+        if self.render_mode is None:
+            return None
+        field = self._view.images(retina=False)["field_map3"]
+        return (np.nan_to_num(field, nan=0.0) * 255.0).round().astype(np.uint8)
 
     def _info(self, met):
         return {"position_m": self._position.copy(), "heading_deg": self._heading, "met": met,

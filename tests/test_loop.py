@@ -32,17 +32,20 @@ def scene():
 
 def test_gymnasium_checks_the_environment_with_its_errors(eye, scene):
     env = gymnasium.make("beeoptics/BeeView-v0", eye=eye, scene=scene, target_m=[0.12, 0.0, 0.06], errors=True,
-                         **FAST)
+                         render_mode="rgb_array", **FAST)
     with warnings.catch_warnings():
         # Its two advices do not apply: actions are in m/s and deg/s, and a catch has no upper bound.
         warnings.filterwarnings("ignore", ".*For Box action spaces")
         warnings.filterwarnings("ignore", ".*A Box observation space maximum value is infinity")
-        # Its check of closing makes the environment again from deep copies of its arguments, which an Embree
-        # scene does not allow; its check of determinism, through the spec gymnasium.make gives it, stays.
-        check_env(env.unwrapped, skip_close_check=True)
+        check_env(env.unwrapped)
     observation, _ = env.reset(seed=5)
     assert set(observation) == {"catches", "se"} and observation["catches"].shape == (len(eye.table.id), 3)
     assert (observation["se"] > 0).all() and (observation["se"] < observation["catches"]).all()
+    # It renders the last look's visual field, in the bee's colours.
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3 and frame.any()
+    with pytest.raises(InputError, match="render_mode"):
+        BeeView(eye, scene, target_m=[0.0, 0.0, 0.0], render_mode="human")
 
 
 def test_turning_at_a_constant_rate_flies_the_arc_and_a_step_into_the_ground_is_refused(eye, scene):
