@@ -74,21 +74,29 @@ from beeoptics.vision.colourspace import excitation
 
 
 @kernel
-def _turned_sums(indptr, start, weights, table, length, rows):
-    """Receptors ``rows``' weighted sums of the map at every turn, (matrices, rows, ``length``): entry p of each
-    matrix (rows of ``weights``, of one sparsity) adds its weight times ``table[start[p]:start[p] + length]``,
-    the map's values at its direction turned through every heading (laid out so by :func:`turned_catches`).
-    Each receptor's sum runs in the same order always: the same bits for any split of the receptors among
-    threads."""
-    out = np.zeros((len(weights), len(rows), length))
+def _turned_sums(indptr, start, kernel, parallax, table, length, near, rows):
+    """Receptors ``rows``' weighted sums of the map at every turn by the two matrices of one sparsity,
+    ``kernel`` and ``parallax`` (their entries' weights), (2, rows, ``length``): entry p adds its weight times
+    ``table[start[p]:start[p] + length]``, the map's values at its direction turned through every heading (laid
+    out so by :func:`turned_catches`), read once for both. Each receptor's sum runs in the same order always:
+    the same bits for any split of the receptors among threads. A receptor not ``near`` (its kernel meets no
+    surface at any turn) has no parallax to sum: its sums are left zero, as the nearness under its kernel,
+    zero, would count them."""
+    out = np.zeros((2, len(rows), length))
     for n in range(len(rows)):
         i = rows[n]
+        sums, turns = out[0, n], out[1, n]
         for p in range(indptr[i], indptr[i + 1]):
-            first = start[p]
-            for m in range(len(weights)):
-                w = weights[m, p]
+            seen = table[start[p]:start[p] + length]
+            w = kernel[p]
+            if near[i]:
+                v = parallax[p]
                 for j in range(length):
-                    out[m, n, j] += w * table[first + j]
+                    sums[j] += w * seen[j]
+                    turns[j] += v * seen[j]
+            else:
+                for j in range(length):
+                    sums[j] += w * seen[j]
     return out
 
 
@@ -156,12 +164,17 @@ def turned_catches(env, eye, *, heading_step_deg=1.0, pitch_deg=0.0, roll_deg=0.
     j = weights.kernel.indices - starts[r]
     u, column = j // per[r], first[r] + j % per[r]
     start = (((column * step + u % step) * 2 * turns) + u // step) * k
+    # The receptors whose kernels meet a surface at some turn (the nearness, last of a direction's k values at
+    # each of its turns, above zero somewhere): only theirs have a parallax to sum.
+    seen = table.reshape(-1, 2 * turns, k)[:, :turns, -1].any(axis=1)[start // (2 * turns * k)]
+    counted = np.concatenate([[0], np.cumsum(seen)])
+    indptr = weights.kernel.indptr
+    near = counted[indptr[1:]] > counted[indptr[:-1]]
     # The kernel holds no GIL: the receptors split among threads, each its own rows.
-    both = np.stack([weights.kernel.data, weights.parallax.data])
     parts = np.array_split(np.arange(weights.kernel.shape[0]), threads or os.cpu_count())
     with ThreadPoolExecutor(len(parts)) as pool:
-        sums = list(pool.map(lambda rows: _turned_sums(weights.kernel.indptr, start, both, table, turns * k, rows),
-                             parts))
+        sums = list(pool.map(lambda rows: _turned_sums(indptr, start, weights.kernel.data, weights.parallax.data,
+                                                       table, turns * k, near, rows), parts))
     sums = np.concatenate(sums, axis=1).reshape(2, -1, turns, k)
     catches = parallax_corrected(sums[0], sums[1][..., :-1])
     return (acceptance_solid_angle(eye.table.delta_rho_deg)[:, None, None] * catches).transpose(1, 0, 2)
