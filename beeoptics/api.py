@@ -26,7 +26,6 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-import pandas as pd
 
 from beeoptics import __version__
 from beeoptics.eye.optics import acceptance_solid_angle
@@ -59,6 +58,14 @@ __all__ = ["Eye", "Scene", "View", "load_eye", "load_scene", "look", "looks", "h
 #: The package's code that builds an eye: its files are part of a built eye's cache key, so that a change to
 #: any builds the eye afresh.
 EYE_CODE = ("eye", "io", "pipeline/eyes.py")
+
+
+def _frame(*args, **kwargs):
+    """A pandas DataFrame, pandas imported here: the workflow's jobs import this module and return no
+    table, and pandas would add half a second to each of them."""
+    import pandas as pd
+
+    return pd.DataFrame(*args, **kwargs)
 
 
 class Eye:
@@ -95,7 +102,7 @@ class Eye:
         types = ommatidium_types(self.receptor_set, len(self.table.id))
         if types is not None:
             columns["ommatidium"] = ommatidium_names(self.receptor_set, types)
-        return pd.DataFrame(columns)
+        return _frame(columns)
 
     def __repr__(self):
         return (f"Eye({str(self.path)!r}: {len(self.table.id)} receptors, "
@@ -228,12 +235,12 @@ class Scene:
     def materials(self):
         """The materials' names and spectral reflectance (pandas DataFrame: a row per material, a column per
         wavelength, nm)."""
-        return pd.DataFrame(self.scene.reflectance, index=self.scene.material_names, columns=self.wavelengths_nm)
+        return _frame(self.scene.reflectance, index=self.scene.material_names, columns=self.wavelengths_nm)
 
     @property
     def objects(self):
         """The objects: name, vertices and faces (pandas DataFrame, a row per object)."""
-        return pd.DataFrame({"name": [o.name for o in self.scene.objects],
+        return _frame({"name": [o.name for o in self.scene.objects],
                              "vertices": [len(o.vertices) for o in self.scene.objects],
                              "faces": [len(o.faces) for o in self.scene.objects]})
 
@@ -370,14 +377,14 @@ class View:
 
     def table(self):
         """The columns of ``responses.csv`` exactly, in its order (pandas DataFrame)."""
-        return pd.DataFrame(self.columns)
+        return _frame(self.columns)
 
     @property
     def directions(self):
         """Each receptor's optical axis in the world (pandas DataFrame): ``azimuth_deg`` from +x towards +y and
         ``elevation_deg`` above the horizontal, degrees."""
         _, axes = scenes.receptors_in_world(self.placed, self.eye.table.position, self.eye.table.axis)
-        return pd.DataFrame({"azimuth_deg": np.degrees(np.arctan2(axes[:, 1], axes[:, 0])),
+        return _frame({"azimuth_deg": np.degrees(np.arctan2(axes[:, 1], axes[:, 0])),
                              "elevation_deg": np.degrees(np.arcsin(np.clip(axes[:, 2], -1.0, 1.0)))})
 
     @property
@@ -411,7 +418,7 @@ class View:
             table[r] = catches[:, k]
             if se is not None:
                 table[f"se_{r}"] = se[:, k]
-        return pd.DataFrame(table)
+        return _frame(table)
 
     @property
     def colour(self):
@@ -420,7 +427,7 @@ class View:
         columns = self.columns
         described = {"id", "side", "ommatidium", "acceptance_sr", "brightness", "se_brightness", "samples",
                      *(c for k in self.eye.receptor_set.classes for c in (k, f"se_{k}"))}
-        return pd.DataFrame({"id": columns["id"], "side": columns["side"],
+        return _frame({"id": columns["id"], "side": columns["side"],
                              **{c: v for c, v in columns.items() if c not in described}})
 
     @property

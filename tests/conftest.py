@@ -98,6 +98,23 @@ def build_eyes(eyes):
         return {name: job.result() for name, job in built.items()}
 
 
+@pytest.fixture(scope="session")
+def built_eyes(tmp_path_factory):
+    """The repository's eyes built once a session: ``built_eyes(*names)`` builds those not built yet
+    (:func:`build_eyes`) and returns each one's output paths by name. The worker's build, the eye tests'
+    and the detection tests', was twice half a minute."""
+    done = {}
+
+    def build(*names):
+        todo = [name for name in names if name not in done]
+        if todo:
+            done.update(build_eyes({name: (ROOT / "eyes" / name / "eye.yaml", tmp_path_factory.mktemp(name))
+                                    for name in todo}))
+        return {name: done[name] for name in names}
+
+    return build
+
+
 def write_scene(path, scene):
     """Write a scene description to ``path`` (a scene.yaml), creating its folder."""
     path = Path(path)

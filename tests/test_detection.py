@@ -17,7 +17,7 @@ from beeoptics.spectra import grid
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.detection import detect, local_background, unmix
 from beeoptics.vision.receptorset import curves, load_receptor_set
-from conftest import ROOT, build_eye_files
+from conftest import ROOT
 
 YMAZE = ROOT / "tests" / "data" / "scenes" / "ymaze" / "scene.yaml"
 #: The stand-in maze's geometry (its scene.yaml): the wall 0.20 m ahead, level with the bee.
@@ -136,9 +136,8 @@ def test_approach_poses_face_the_flower_along_a_descending_line():
 
 
 @pytest.fixture(scope="module")
-def worker(tmp_path_factory):
-    return read_receptors(build_eye_files(ROOT / "eyes" / "worker" / "eye.yaml", tmp_path_factory.mktemp("w"))
-                          ["receptors"])
+def worker(built_eyes):
+    return read_receptors(built_eyes("worker")["worker"]["receptors"])
 
 
 def maze(tmp_path, material, alpha_deg):

@@ -9,7 +9,7 @@ from threadpoolctl import threadpool_limits
 from beeoptics.eye.description import load_eye
 from beeoptics.headframe import eye_azimuth_elevation
 from beeoptics.io.receptortable import read_receptors
-from conftest import ROOT, build_eye_files, build_eyes
+from conftest import ROOT, build_eye_files
 
 CASTES = ("worker", "drone", "queen")
 #: Published bounds the eyes miss, for a reason documented in their eye.yaml and the README: the
@@ -19,10 +19,9 @@ KNOWN_DISAGREEMENTS = {"worker": {"eye_length_mm_within_tolerance", "eye_width_m
 
 
 @pytest.fixture(scope="session")
-def built(tmp_path_factory):
+def built(built_eyes):
     # The drone, the longest build, first.
-    names = ("drone", "worker", "queen", "worker_collins")
-    dirs = build_eyes({c: (ROOT / "eyes" / c / "eye.yaml", tmp_path_factory.mktemp(c)) for c in names})
+    dirs = built_eyes("drone", "worker", "queen", "worker_collins")
     out = {}
     for caste, paths in dirs.items():
         d = paths["receptors"].parent

@@ -20,7 +20,6 @@ irregularly-spaced data. Proc 23rd ACM National Conference, 517–524.
 
 import igl
 import numpy as np
-from scipy.optimize import brentq
 
 from beeoptics.eye.geodesic import heat_distances
 from beeoptics.headframe import eye_direction
@@ -73,6 +72,8 @@ def fill_diameter(vertices, faces, sources, values, count, power=2.0):
 
     def surplus(d):
         return float((area / (np.sqrt(3.0) / 2.0 * (base + slope * d) ** 2)).sum()) - count
+
+    from scipy.optimize import brentq  # imported where used: most stages importing this module solve nothing (0.3 s)
 
     lo, hi = 0.1 * known.max(), 10.0 * known.max()
     if surplus(lo) * surplus(hi) > 0.0:

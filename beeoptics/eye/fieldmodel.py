@@ -45,8 +45,6 @@ from functools import cache
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
-from scipy.interpolate import PchipInterpolator, RegularGridInterpolator
 
 from beeoptics.io.table import read_table
 
@@ -73,6 +71,10 @@ def border():
     (low, high) : elevation range of the field, degrees
     medial, lateral : callables, elevation (deg) → azimuth (deg)
     """
+    # scipy's interpolation and integration imported where used: the stages that import this module through
+    # the eye's description and draw no field model would pay 0.4 s for them.
+    from scipy.interpolate import PchipInterpolator
+
     t = read_table(BORDER_FILE, numeric=["lateral_elevation_deg", "lateral_azimuth_deg", "medial_elevation_deg",
                                          "medial_azimuth_deg"])
     lateral = PchipInterpolator(t["lateral_elevation_deg"], t["lateral_azimuth_deg"])
@@ -133,6 +135,8 @@ def inside(azimuth_deg, elevation_deg, caps=True):
 def _tables():
     """Elevation grid, the cumulative share of ommatidia below each elevation, and each row's
     azimuth as a function of the share of its ommatidia medial to it; from pole to pole (the caps)."""
+    from scipy.integrate import cumulative_trapezoid  # as in border
+
     elevation = np.linspace(-90.0, 90.0, _STEPS)
     share = np.linspace(0.0, 1.0, _STEPS)
     lo, hi = ring(elevation)
@@ -181,6 +185,8 @@ def direction_of_shares(below, medial_share):
     -------
     azimuth_deg, elevation_deg : ndarray
     """
+    from scipy.interpolate import RegularGridInterpolator  # as in border
+
     elevation, cumulative, inverse = _tables()[:3]
     e = np.interp(np.asarray(below, float) * cumulative[-1], cumulative, elevation)
     along = RegularGridInterpolator((elevation, np.linspace(0.0, 1.0, _STEPS)), inverse)

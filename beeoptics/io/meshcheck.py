@@ -35,7 +35,6 @@ import struct
 import warnings
 from pathlib import Path
 
-import meshio
 import numpy as np
 import plyfile
 
@@ -217,6 +216,8 @@ def _meshio(path):
     if kind is None:
         raise InputError(path, "", f"unknown mesh format {path.suffix!r}; use "
                          + ", ".join([".obj", ".ply", *MESHIO_FORMATS, ".gltf", ".glb"]))
+    import meshio  # imported where used: every stage imports this module, few read a mesh meshio reads (0.1 s)
+
     try:
         mesh = meshio.read(path, file_format=kind)
     except Exception as e:  # meshio raises what its parsers meet: ValueError, IndexError, its own ReadError

@@ -57,7 +57,7 @@ HEXAGONAL_PACKING = np.pi / (2.0 * np.sqrt(3.0))
 
 @cache
 def _table():
-    return yaml.safe_load(SPECIES_FILE.read_text())["species"]
+    return yaml.load(SPECIES_FILE.read_text(), Loader=yaml.CSafeLoader)["species"]
 
 
 def species_table(extra=None):
