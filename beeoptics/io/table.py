@@ -76,8 +76,7 @@ def read_table(path, numeric=(), text=()):
         if name not in header:
             raise InputError(path, name, "missing column")
     columns = {}
-    for j, name in enumerate(header):
-        values = [r[j] for r in body]
+    for name, values in zip(header, zip(*body) if body else [()] * len(header)):
         columns[name] = _parse(values, path, name, numeric=name in numeric)
     return columns
 
@@ -85,6 +84,11 @@ def read_table(path, numeric=(), text=()):
 def _parse(values, path, name, numeric):
     try:
         return np.array([int(v) for v in values])
+    except ValueError:
+        pass
+    try:
+        # An empty field is NaN; one of blanks fails here, and is NaN too below.
+        return np.array([float(v or "nan") for v in values])
     except ValueError:
         pass
     try:
