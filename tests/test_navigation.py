@@ -141,6 +141,10 @@ def test_a_map_file_is_read_back_or_refused_in_one_line(env, eye, scene, tmp_pat
     for position in ([0.0, np.nan, 0.1], [0.0, 0.1], "here"):
         with pytest.raises(InputError, match="environment_map: position_m"):
             envmap.environment_map(scene, position, eye)
+    # A map finer than the tracer's random streams allow (the finest bumblebee receptors' by the rule), before
+    # any tracing.
+    with pytest.raises(InputError, match="environment_map: spacing_deg: 0.045° apart makes 21,119,760 directions"):
+        envmap.environment_map(scene, scene.scene.eye_position, eye, spacing_deg=0.045)
     path = tmp_path / "map.npz"
     envmap.write_map(path, env)
     back = envmap.read_map(path)
