@@ -101,7 +101,7 @@ def main(argv=None):
                            threads=args.threads)
         view_s += time.perf_counter() - start
         first = env if i == 0 else first
-        print(f"place {i + 1}/{len(places)}: map {len(env.q)} directions; {map_s:.1f} s of maps, "
+        print(f"place {i + 1}/{len(places)}: map {len(env.nearness)} directions; {map_s:.1f} s of maps, "
               f"{view_s:.1f} s of views so far", flush=True)
 
     headings = np.arange(args.direct) * step
@@ -122,7 +122,7 @@ def main(argv=None):
     direct_rate = len(direct) / direct_s
     result = {"maps_per_s": len(places) / map_s, "views_per_s": n_views / view_s, "direct_views_per_s": direct_rate,
               "views_with_maps_per_s": n_views / (map_s + view_s), "places": len(places), "headings": args.headings,
-              "map_samples": args.map_samples, "map_directions": len(first.q), "spacing_deg": first.spacing_deg,
+              "map_samples": args.map_samples, "map_directions": len(first.nearness), "spacing_deg": first.spacing_deg,
               "z_rms": float(np.sqrt(np.mean(z * z))), "z_mean": float(z.mean()), "se_ratio": float(np.median(ratio))}
     bound = result["views_per_s"] >= SPEED_UP * direct_rate
     print(f"{'within' if bound else 'OUTSIDE'} the bound: views_per_s {result['views_per_s']:.2f} against "

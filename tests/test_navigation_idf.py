@@ -23,8 +23,7 @@ def synthetic():
                                                        achromatic=1))
     n = len(envmap.ring_grid(SPACING_DEG, STEP_DEG).directions)
     nearness = 10.0 * (1.0 + rng.uniform(size=n))
-    env = envmap.EnvironmentMap(np.zeros(3), SPACING_DEG, STEP_DEG, np.zeros(1), np.zeros((n, 1)), np.zeros((n, 2)),
-                                np.zeros((n, 2)), np.zeros((1, 2)), nearness, 8, 1, 1)
+    env = envmap.EnvironmentMap(np.zeros(3), SPACING_DEG, STEP_DEG, np.zeros(1), None, {}, nearness, 8, 1, 1)
     centres = rng.normal(size=(12, 3))
     centres /= np.linalg.norm(centres, axis=1)[:, None]
     blobs = np.exp(8.0 * (env.grid.directions @ centres.T - 1.0))

@@ -5,9 +5,9 @@ and places (:mod:`~beeoptics.navigation.idf`); catchment areas (:mod:`~beeoptics
 from beeoptics._exports import exports
 
 __all__, __getattr__ = exports(__name__, {
-    "envmap": ("EnvironmentMap", "Grid", "Weights", "environment_map", "eye_weights", "kernel_sigma", "map_catches",
-               "map_spacing_deg", "parallax_corrected", "parallax_matrix", "read_map", "resampled_catches",
-               "resampling_matrix", "ring_grid", "turn_order", "write_map"),
+    "envmap": ("EnvironmentMap", "Grid", "SetCatches", "Weights", "environment_map", "eye_weights", "kernel_sigma",
+               "map_catches", "map_spacing_deg", "parallax_corrected", "parallax_matrix", "read_map",
+               "resampled_catches", "resampling_matrix", "ring_grid", "turn_order", "write_map"),
     "idf": ("image_difference", "ridf", "signal_names", "signals", "turned_catches", "valley"),
     "catchment": ("catchment", "descent", "extent"),
 })

@@ -11,6 +11,14 @@ acceptance-weighted mean of the map over its cone: a sparse matrix per eye
 and pose (:func:`resampling_matrix`), its rows the receptors, its columns
 the map's directions.
 
+What a map keeps. The receptors' catches are linear in the radiance, so a
+map keeps, of each direction's traced spectrum, only its catches in each
+distinct receptor set of the eyes it was traced for (:class:`SetCatches`,
+by the set's name; their standard errors from the trace's replicates),
+taken before the spectrum is dropped: a few numbers a direction, not one a
+wavelength (the worker's map 22 MB, not 190 MB, at 5 nm). The spectrum is
+kept only on request, for eyes of other sets or curves later.
+
 The grid is one of rings of constant elevation, h apart, each holding a
 whole multiple of 360/(heading step) directions evenly in azimuth, as many
 as keep them at most h apart along the ring, with each direction's solid
@@ -115,6 +123,7 @@ from beeoptics.io.atomic import atomic_path
 from beeoptics.io.errors import InputError
 from beeoptics.io.validation import CONFIG_SCHEMA, validate_config
 from beeoptics.light.batching import TraceSettings
+from beeoptics.light.sampler import STREAMS
 from beeoptics.light.sensors import cone_sigma
 from beeoptics.raycasting import first_hits
 from beeoptics.replicates import standard_error
@@ -133,8 +142,10 @@ KERNEL_CUT_SIGMAS = 4.0
 #: Map directions traced at once: bounds the replicates' memory (directions × 8 × wavelengths × 8 bytes,
 #: some 170 MB at 81 wavelengths) without changing a number (every direction draws its own stream).
 CHUNK = 1 << 15
-#: The arrays a map file holds, beside its scalars.
-ARRAYS = ("position_m", "wavelengths_nm", "q", "q_se", "curves", "nearness")
+#: The arrays a map file holds, beside its scalars and each receptor set's :data:`SET_ARRAYS`.
+ARRAYS = ("position_m", "wavelengths_nm", "nearness")
+#: A receptor set's arrays in a map file, each ``{array}.{set}`` for every set named in its ``sets``.
+SET_ARRAYS = ("q", "q_se", "curves")
 #: Its scalars.
 SCALARS = ("spacing_deg", "heading_step_deg", "samples", "depth", "seed")
 
@@ -161,6 +172,24 @@ class Grid(NamedTuple):
     counts: np.ndarray
 
 
+class SetCatches(NamedTuple):
+    """A map's radiance catches in one receptor set's classes (:attr:`EnvironmentMap.catches`).
+
+    Attributes
+    ----------
+    q, q_se : ndarray (n, k)
+        The radiance catches of the map's directions in the set's k classes
+        (photons m⁻² s⁻¹ sr⁻¹: :func:`beeoptics.vision.catches.quantum_catches`
+        of the radiance) and their standard errors over the trace's replicates.
+    curves : ndarray (w, k)
+        The receptor curves they were taken with, each of area 1 nm.
+    """
+
+    q: np.ndarray
+    q_se: np.ndarray
+    curves: np.ndarray
+
+
 class EnvironmentMap(NamedTuple):
     """The spectral radiance over the sphere at a place, on a grid of rings (:func:`ring_grid`).
 
@@ -175,14 +204,13 @@ class EnvironmentMap(NamedTuple):
     wavelengths_nm : ndarray (w,)
     radiance : ndarray (n, w) or None
         Each direction's mean spectral radiance over its acceptance of
-        Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` h, W m⁻² sr⁻¹ nm⁻¹; None for
-        a map read from a file written without it (:func:`write_map`).
-    q, q_se : ndarray (n, k)
-        Its radiance catches in the classes of ``curves``
-        (photons m⁻² s⁻¹ sr⁻¹: :func:`beeoptics.vision.catches.quantum_catches`
-        of the radiance) and their standard errors over the trace's replicates.
-    curves : ndarray (w, k)
-        The receptor curves ``q`` was taken with, each of area 1 nm.
+        Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` h, W m⁻² sr⁻¹ nm⁻¹, where it
+        was asked for (:func:`environment_map`'s ``radiance``: some 190 MB a
+        map for the worker at 5 nm); None by default.
+    catches : dict of str to SetCatches
+        Its radiance catches in each receptor set it was traced for, by the
+        set's name, taken from the traced radiance before it is dropped (a
+        few classes each: some 6 MB a set for the worker's map).
     nearness : ndarray (n,)
         1/m: the reciprocal of each direction's distance from the place to
         the first surface, 0 where none is met (the sky): the parallax of a
@@ -198,9 +226,7 @@ class EnvironmentMap(NamedTuple):
     heading_step_deg: float
     wavelengths_nm: np.ndarray
     radiance: np.ndarray
-    q: np.ndarray
-    q_se: np.ndarray
-    curves: np.ndarray
+    catches: dict
     nearness: np.ndarray
     samples: int
     depth: int
@@ -234,11 +260,9 @@ def ring_grid(spacing_deg, heading_step_deg=HEADING_STEP_DEG):
     -------
     Grid
     """
-    rings, turn = round(180.0 / spacing_deg), round(360.0 / heading_step_deg)
+    elevation, counts = ring_counts(spacing_deg, heading_step_deg)
     h = np.radians(spacing_deg)
-    elevation = -np.pi / 2 + (np.arange(rings) + 0.5) * h
-    counts = turn * np.ceil(np.cos(elevation) * 2.0 * np.pi / (turn * h) - 1e-9).astype(np.int64)
-    ring = np.repeat(np.arange(rings), counts)
+    ring = np.repeat(np.arange(len(counts)), counts)
     j = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
     # Odd rings half a step round, so that neighbouring rings' directions interleave.
     azimuth = 2.0 * np.pi * (j + 0.5 * (ring % 2)) / counts[ring]
@@ -250,6 +274,14 @@ def ring_grid(spacing_deg, heading_step_deg=HEADING_STEP_DEG):
     for array in grid:
         array.flags.writeable = False
     return grid
+
+
+def ring_counts(spacing_deg, heading_step_deg=HEADING_STEP_DEG):
+    """The rings' elevations, radians, and their directions' counts (:func:`ring_grid`'s), (rings,) each."""
+    rings, turn = round(180.0 / spacing_deg), round(360.0 / heading_step_deg)
+    h = np.radians(spacing_deg)
+    elevation = -np.pi / 2 + (np.arange(rings) + 0.5) * h
+    return elevation, turn * np.ceil(np.cos(elevation) * 2.0 * np.pi / (turn * h) - 1e-9).astype(np.int64)
 
 
 def map_spacing_deg(delta_rho_deg):
@@ -269,8 +301,8 @@ def turn_order(grid, heading_deg):
     return starts[ring] + (j + shift[ring]) % grid.counts[ring]
 
 
-def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_deg=HEADING_STEP_DEG, samples=8,
-                    depth=None, seed=None, sensitivities=DEFAULT_CURVES, threads=None):
+def environment_map(scene, position_m, eyes, *, spacing_deg=None, heading_step_deg=HEADING_STEP_DEG, samples=8,
+                    depth=None, seed=None, sensitivities=DEFAULT_CURVES, radiance=False, threads=None):
     """Trace the spectral radiance over the whole sphere at a place, once, for resampling to an eye at any pose.
 
     Parameters
@@ -279,13 +311,13 @@ def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_de
         A loaded scene (:func:`beeoptics.load_scene`).
     position_m : array_like (3,)
         The place, m (the head's centre).
-    eye : beeoptics.Eye
-        The eye it is for: its smallest Δρ sets the spacing by the rule
-        (:func:`map_spacing_deg`), its receptor set the classes whose
-        standard errors the map keeps.
+    eyes : beeoptics.Eye or sequence of beeoptics.Eye
+        The eyes it is for: their smallest Δρ sets the spacing by the rule
+        (:func:`map_spacing_deg`), and the map keeps its catches and their
+        standard errors in each of their distinct receptor sets.
     spacing_deg : float, optional
-        A finer spacing than the rule's, degrees (one map for several eyes),
-        made finer still where 180° over it is not a whole number.
+        A finer spacing than the rule's, degrees, made finer still where
+        180° over it is not a whole number.
     heading_step_deg : float
         The turn, degrees, whose whole multiples are resampled without a
         search of their own (360 over it a whole number).
@@ -298,6 +330,10 @@ def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_de
         Scattering events per path and the seed: the configuration's by default.
     sensitivities : str
         The receptor curves (:func:`beeoptics.vision.receptorset.curves`).
+    radiance : bool
+        Keep the spectral radiance too (an eye of another receptor set, or
+        other curves, can then be resampled from the map; with the errors a
+        gap).
     threads : int, optional
         Threads tracing; all cores by default. The map is the same for any.
 
@@ -305,10 +341,11 @@ def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_de
     -------
     EnvironmentMap
     """
-    rule = map_spacing_deg(eye.table.delta_rho_deg)
+    eyes = [eyes] if hasattr(eyes, "receptor_set") else list(eyes)
+    rule = min(map_spacing_deg(e.table.delta_rho_deg) for e in eyes)
     if spacing_deg is not None and not 0.0 < spacing_deg <= rule:
         raise InputError("environment_map", "spacing_deg", f"{spacing_deg!r} is not above 0 and at most the "
-                         f"rule's {rule:.4g}° (the eye's smallest Δρ over {SPACINGS_PER_DELTA_RHO})")
+                         f"rule's {rule:.4g}° (the eyes' smallest Δρ over {SPACINGS_PER_DELTA_RHO})")
     spacing = rule if spacing_deg is None else 180.0 / np.ceil(180.0 / spacing_deg)
     turn = 360.0 / heading_step_deg if heading_step_deg > 0.0 else 0.0
     if turn < 1.0 or abs(turn - round(turn)) > 1e-9:
@@ -324,27 +361,40 @@ def environment_map(scene, position_m, eye, *, spacing_deg=None, heading_step_de
     trace = validate_config({"trace": given}, CONFIG_SCHEMA, source="environment_map", folders=False)["trace"]
     settings = TraceSettings.from_config(trace, threads or os.cpu_count())
     wl = scene.wavelengths_nm
-    sens = curves(eye.receptor_set, wl, sensitivities)
+    # Each distinct receptor set once, by name: its curves side by side with the others', traced in one pass.
+    sets = {e.receptor_set.name: curves(e.receptor_set, wl, sensitivities) for e in eyes}
+    sens = np.hstack(list(sets.values()))
+    # Each direction draws a random stream of its own, so that a map is the same for any chunking: at most the
+    # tracer's streams (a spacing under 0.05°: the finest bumblebee receptors' Δρ by the rule).
+    n = int(ring_counts(spacing, heading_step_deg)[1].sum())
+    if n > STREAMS:
+        raise InputError("environment_map", "spacing_deg", f"{spacing:.3g}° apart makes {n:,} directions, more than "
+                         f"the tracer's {STREAMS:,} random streams (one each): the eyes' Δρ is too fine for one map")
     axes = ring_grid(spacing, heading_step_deg).directions
-    n = len(axes)
     origins = np.broadcast_to(position, (n, 3))
     delta_rho = np.full(n, MAP_DELTA_RHO_SPACINGS * spacing)
     streams = np.arange(n, dtype=np.int64)
-    radiance, q_se = [], []
+    spectra, q, q_se = [], [], []
     for first in range(0, n, CHUNK):
         last = min(first + CHUNK, n)
         errors = {}
-        radiance.append(trace_cones(scene.scene, origins, axes, delta_rho, streams, first, last, settings, len(wl),
-                                    rs=scene.raycasting, sensitivities=(wl, sens), errors=errors)[0])
+        chunk = trace_cones(scene.scene, origins, axes, delta_rho, streams, first, last, settings, len(wl),
+                            rs=scene.raycasting, sensitivities=(wl, sens), errors=errors)[0]
+        # The catches from the chunk's radiance before it goes (unless asked for): a few classes, not w wavelengths.
+        q.append(quantum_catches(chunk, sens, wl))
+        spectra += [chunk] if radiance else []
         # The replicates' catches are over the direction's acceptance solid angle: per steradian here.
         q_se.append(standard_error(errors["catches"]) / acceptance_solid_angle(delta_rho[first:last])[:, None])
-    radiance = np.concatenate(radiance)
     # One ray a direction from the place: the distance to the first surface, whose reciprocal turns a facet's
     # kernel (sky: none, no parallax).
     distance = first_hits(scene.raycasting, np.column_stack([origins, axes]).astype(np.float32))["t_hit"]
     nearness = np.where(np.isfinite(distance), 1.0 / np.maximum(distance, 1e-9), 0.0)
-    return EnvironmentMap(position, spacing, float(heading_step_deg), wl, radiance, quantum_catches(radiance, sens, wl),
-                          np.concatenate(q_se), sens, nearness, settings.samples, settings.depth, settings.seed)
+    split = np.cumsum([c.shape[1] for c in sets.values()])[:-1]
+    catches = {name: SetCatches(a, e, c) for name, a, e, c in zip(sets, np.split(np.concatenate(q), split, axis=1),
+                                                                   np.split(np.concatenate(q_se), split, axis=1),
+                                                                   sets.values())}
+    return EnvironmentMap(position, spacing, float(heading_step_deg), wl, np.concatenate(spectra) if radiance else None,
+                          catches, nearness, settings.samples, settings.depth, settings.seed)
 
 
 def resampling_matrix(env, axes, delta_rho_deg):
@@ -535,29 +585,37 @@ def resampled_catches(env, eye, *, heading_deg=0.0, pitch_deg=0.0, roll_deg=0.0,
 def map_catches(env, eye, sensitivities=DEFAULT_CURVES):
     """The map's radiance catches in the eye's classes and their standard errors, (n, k) each.
 
-    The catches follow from the map's spectral radiance for any curves; the
-    errors are the map's own where its curves are the eye's, else NaN (a
-    gap: the trace's replicates were reduced to the map's classes).
+    They are the map's own of the eye's receptor set (by its name) where the
+    map was traced for it with the same curves; else they follow from the
+    map's spectral radiance, where it was kept, with NaN errors (a gap: the
+    trace's replicates were reduced to the map's sets); else the map is
+    refused in one line.
     """
+    name = eye.receptor_set.name
     sens = curves(eye.receptor_set, env.wavelengths_nm, sensitivities)
-    if sens.shape == env.curves.shape and np.array_equal(sens, env.curves):
-        return env.q, env.q_se
+    own = env.catches.get(name)
+    if own is not None and own.curves.shape == sens.shape and np.array_equal(own.curves, sens):
+        return own.q, own.q_se
     if env.radiance is None:
-        raise InputError(env.source, "radiance", "the map keeps its catches in its own receptor classes only (it "
-                         "was written without its spectral radiance): an eye of other classes needs it traced again")
+        raise InputError(env.source, "sets", f"the map holds the catches of {', '.join(env.catches)} only, not of "
+                         f"the eye's set {name} with curves {sensitivities} (it was traced without its spectral "
+                         "radiance): trace it again for this eye")
     return quantum_catches(env.radiance, sens, env.wavelengths_nm), np.full((len(env.radiance), sens.shape[1]), np.nan)
 
 
-def write_map(path, env, spectral=True):
-    """Write a map to an NPZ file (whole or not at all): its arrays, its grid's directions and their solid
-    angles (``directions``, ``solid_angle_sr``, as :func:`ring_grid` makes them again from the spacing and
-    heading step), its samples, depth and seed; its spectral radiance unless ``spectral`` is false (the
-    worker's map at 5 nm is then some 20 MB, not 190 MB, and serves only eyes of the map's own classes)."""
+def write_map(path, env):
+    """Write a map to an NPZ file (whole or not at all): its arrays, the names of its receptor sets (``sets``)
+    and each one's catches, their errors and curves (``q.{set}``, ``q_se.{set}``, ``curves.{set}``), its
+    grid's directions and their solid angles (``directions``, ``solid_angle_sr``, as :func:`ring_grid` makes
+    them again from the spacing and heading step), its samples, depth and seed; and its spectral radiance where
+    it holds it (the worker's map at 5 nm is some 20 MB without it, 190 MB with it)."""
     grid = env.grid
-    spectrum = {"radiance": env.radiance} if spectral and env.radiance is not None else {}
+    spectrum = {"radiance": env.radiance} if env.radiance is not None else {}
+    per_set = {f"{k}.{name}": getattr(c, k) for name, c in env.catches.items() for k in SET_ARRAYS}
     with atomic_path(path) as tmp:
-        np.savez(tmp, **{k: getattr(env, k) for k in ARRAYS}, **spectrum, directions=grid.directions,
-                 solid_angle_sr=grid.solid_angle_sr, **{k: np.asarray(getattr(env, k)) for k in SCALARS})
+        np.savez(tmp, **{k: getattr(env, k) for k in ARRAYS}, sets=np.array(list(env.catches), dtype=str),
+                 **per_set, **spectrum, directions=grid.directions, solid_angle_sr=grid.solid_angle_sr,
+                 **{k: np.asarray(getattr(env, k)) for k in SCALARS})
 
 
 def read_map(path):
@@ -567,27 +625,35 @@ def read_map(path):
             data = {k: f[k] for k in f.files}
     except (OSError, ValueError, EOFError) as e:
         raise InputError(path, "", f"not an environment map's NPZ file ({e})") from None
-    for key in (*ARRAYS, *SCALARS, *(("radiance",) if "radiance" in data else ())):
+    if "sets" not in data:
+        raise InputError(path, "sets", "missing: the map was written before maps held their catches per receptor "
+                         "set; trace it again")
+    names = data["sets"]
+    if names.dtype.kind != "U" or names.ndim != 1 or len(names) == 0 or len(set(names)) != len(names):
+        raise InputError(path, "sets", "must name the map's receptor sets, one or more, each once")
+    per_set = [f"{k}.{name}" for name in names for k in SET_ARRAYS]
+    for key in (*ARRAYS, *SCALARS, *per_set, *(("radiance",) if "radiance" in data else ())):
         if key not in data:
             raise InputError(path, key, "missing")
         if not np.issubdtype(data[key].dtype, np.number) or not np.isfinite(data[key]).all():
             raise InputError(path, key, "must hold finite numbers")
-    n = len(data["q"]) if data["q"].ndim == 2 else 0
-    w, k = data["curves"].shape if data["curves"].ndim == 2 else (0, 0)
-    shapes = {"position_m": (3,), "wavelengths_nm": (w,), "q": (n, k), "q_se": (n, k), "curves": (w, k),
-              "nearness": (n,),
+    n, w = len(data["nearness"]), len(data["wavelengths_nm"])
+    shapes = {"position_m": (3,), "wavelengths_nm": (w,), "nearness": (n,),
               **({"radiance": (n, w)} if "radiance" in data else {})}
+    for name in names:
+        k = data[f"curves.{name}"].shape[-1] if data[f"curves.{name}"].ndim == 2 else 0
+        shapes |= {f"q.{name}": (n, k), f"q_se.{name}": (n, k), f"curves.{name}": (w, k)}
     for key, shape in shapes.items():
-        if n == 0 or data[key].shape != shape:
-            raise InputError(path, key, f"shape {data[key].shape}, where the map's catches {data['q'].shape} "
-                             f"and curves {data['curves'].shape} ask for {shape}")
+        if n == 0 or w == 0 or 0 in data[key].shape or data[key].shape != shape:
+            raise InputError(path, key, f"shape {data[key].shape}, where the map's nearness {data['nearness'].shape} "
+                             f"and wavelengths {data['wavelengths_nm'].shape} ask for {shape}")
     spacing, step = float(data["spacing_deg"]), float(data["heading_step_deg"])
     for key, value, most in (("spacing_deg", spacing, 180.0), ("heading_step_deg", step, 360.0)):
         if not 0.0 < value <= most or abs(most / value - round(most / value)) > 1e-9:
             raise InputError(path, key, f"{value}: {most:g}° over it must be a whole number")
     if len(ring_grid(spacing, step).directions) != n:
-        raise InputError(path, "q", f"{n} directions, where the grid of spacing_deg {spacing} and "
+        raise InputError(path, "nearness", f"{n} directions, where the grid of spacing_deg {spacing} and "
                          f"heading_step_deg {step} has {len(ring_grid(spacing, step).directions)}")
-    return EnvironmentMap(data["position_m"], spacing, step, data["wavelengths_nm"], data.get("radiance"), data["q"],
-                          data["q_se"], data["curves"], data["nearness"], int(data["samples"]), int(data["depth"]),
-                          int(data["seed"]), str(path))
+    catches = {str(name): SetCatches(*(data[f"{k}.{name}"] for k in SET_ARRAYS)) for name in names}
+    return EnvironmentMap(data["position_m"], spacing, step, data["wavelengths_nm"], data.get("radiance"), catches,
+                          data["nearness"], int(data["samples"]), int(data["depth"]), int(data["seed"]), str(path))

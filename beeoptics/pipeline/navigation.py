@@ -3,7 +3,8 @@
 A square grid of places about the reference place, level at the configured
 height, each traced once as an environment map
 (:func:`beeoptics.navigation.envmap.environment_map`, at the finest spacing
-the navigation's eyes ask for, so that one map serves them all). Then for
+the grid's eyes ask for and with the catches of each of their receptor
+sets, so that one map serves them all). Then for
 each eye: every place's view at every heading resampled from its map
 (:func:`beeoptics.navigation.idf.turned_catches`), the rIDF of each against
 the reference view (the reference place's view at the reference heading) in
@@ -26,10 +27,9 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.navigation import catchment, idf
-from beeoptics.navigation.envmap import (HEADING_STEP_DEG, environment_map, eye_weights, map_catches, map_spacing_deg,
-                                        read_map, write_map)
+from beeoptics.navigation.envmap import HEADING_STEP_DEG, environment_map, eye_weights, map_catches, read_map, write_map
 from beeoptics.pipeline.logs import log
-from beeoptics.vision.receptorset import curves, receptor_set_of
+from beeoptics.vision.receptorset import receptor_set_of
 
 
 def grid_places(reference_xy, height_m, extent_m, spacing_m):
@@ -82,29 +82,25 @@ def trace_maps(scene_file, receptor_files, eye_files, folder, *, places, navigat
     """Trace the environment maps of grid places ``places`` (row-major) into ``folder``, ``{place}.npz`` each.
 
     The scene and the eyes are read once for all of them (a job's start and
-    the meadow's reading cost several maps' tracing).
-
-    Its spacing is the finest of the rule's for the eyes (their smallest Δρ
-    over four), its receptor curves the first eye's; the others' catches are
-    taken from its spectral radiance.
+    the meadow's reading cost several maps' tracing). Each map is traced for
+    all the eyes at once: at the finest of the rule's spacings for them
+    (their smallest Δρ over four), with the catches of each of their
+    receptor sets; their spectral radiance only where ``navigation.map.radiance``
+    asks for it.
     """
     scene = load_scene(scene_file, **spectral)
-    x, y, z = grid_places(reference_xy(scene, navigation), navigation["height_m"], **navigation["grids"][grid])
+    spec = navigation["grids"][grid]
+    x, y, z = grid_places(reference_xy(scene, navigation), navigation["height_m"], spec["extent_m"], spec["spacing_m"])
     eyes = eyes_of(receptor_files, eye_files)
-    spacing = min(map_spacing_deg(e.table.delta_rho_deg) for e in eyes)
     m = navigation["map"]
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    # The spectral radiance (some 190 MB a map for the worker at 5 nm) only where an eye of other classes needs
-    # it: the maps' catches are the first eye's.
-    own = curves(eyes[0].receptor_set, scene.wavelengths_nm)
-    spectrum = any(not np.array_equal(curves(e.receptor_set, scene.wavelengths_nm), own) for e in eyes[1:])
     for place in places:
-        env = environment_map(scene, (x.flat[place], y.flat[place], z), eyes[0], spacing_deg=spacing,
-                              samples=m["samples"], depth=m["depth"], seed=m["seed"], threads=threads)
-        write_map(folder / f"{place}.npz", env, spectral=spectrum)
-        log.info("place %d at (%.3f, %.3f, %.3f) m: %d directions %.3g° apart", place, x.flat[place],
-                 y.flat[place], z, len(env.q), env.spacing_deg)
+        env = environment_map(scene, (x.flat[place], y.flat[place], z), eyes, samples=m["samples"], depth=m["depth"],
+                              seed=m["seed"], radiance=m["radiance"], threads=threads)
+        write_map(folder / f"{place}.npz", env)
+        log.info("place %d at (%.3f, %.3f, %.3f) m: %d directions %.3g° apart, the catches of %s", place,
+                 x.flat[place], y.flat[place], z, len(env.nearness), env.spacing_deg, ", ".join(env.catches))
 
 
 def eye_differences(maps, eye, reference, navigation, threads=None):

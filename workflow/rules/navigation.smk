@@ -1,6 +1,6 @@
 # Views for navigation: environment maps on a grid of places about a reference, then each eye's image-difference
 # functions and catchment areas (beeoptics.pipeline.navigation). The default run's grid is navigation.grids.small;
-# `snakemake navigation` runs navigation.grids.full.
+# `snakemake navigation` runs navigation.grids.full; each grid with its own eyes (navigation.grids.{grid}.eyes).
 
 from beeoptics.pipeline import navigation
 
@@ -16,9 +16,16 @@ except InputError as e:
 NAVIGATION_FILES = ["ridf.csv", "tidf.csv", "places.csv", "catchment.csv", "catchment.png"]
 
 
+def grid_eyes(grid):
+    """A grid's eyes: those of navigation.grids.{grid}.eyes among navigation's (all of them where null)."""
+    chosen = NAVIGATION["grids"][grid]["eyes"]
+    return [eye for eye in NAVIGATION["eyes"] if chosen is None or eye in chosen]
+
+
 def navigation_places(grid):
     """The places of a grid (beeoptics.pipeline.navigation.grid_places)."""
-    return navigation.grid_places((0.0, 0.0), 0.0, **NAVIGATION["grids"][grid])[0].size
+    spec = NAVIGATION["grids"][grid]
+    return navigation.grid_places((0.0, 0.0), 0.0, spec["extent_m"], spec["spacing_m"])[0].size
 
 
 def navigation_chunks(grid):
@@ -34,7 +41,7 @@ def chunk_places(grid, chunk):
 
 def navigation_targets(grid):
     return [f"results/navigation/{scene}/{grid}/{name}" for scene in NAVIGATION["scenes"]
-            for name in NAVIGATION_FILES if NAVIGATION["eyes"]]
+            for name in NAVIGATION_FILES if grid_eyes(grid)]
 
 
 wildcard_constraints:
@@ -44,14 +51,14 @@ wildcard_constraints:
 
 rule navigation_map:
     input:
-        receptors=expand("results/eyes/{eye}/receptors.csv", eye=NAVIGATION["eyes"]),
+        receptors=lambda w: expand("results/eyes/{eye}/receptors.csv", eye=grid_eyes(w.grid)),
         scene=scene_sources,
     output:
         maps=directory("results/navigation/{scene}/{grid}/maps/{chunk}"),
     params:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         places=lambda w: chunk_places(w.grid, w.chunk),
-        eyes=[EYES_DIR / eye / "eye.yaml" for eye in NAVIGATION["eyes"]],
+        eyes=lambda w: [EYES_DIR / eye / "eye.yaml" for eye in grid_eyes(w.grid)],
         # Only what places and traces a map: another grid's size or the signals leave the maps as they are.
         navigation=lambda w: {k: NAVIGATION[k] for k in ("reference_m", "height_m", "map")}
         | {"grids": {w.grid: NAVIGATION["grids"][w.grid]}},
@@ -69,7 +76,7 @@ rule navigation_map:
 rule navigation_idf:
     input:
         maps=lambda w: [f"results/navigation/{w.scene}/{w.grid}/maps/{c}" for c in range(navigation_chunks(w.grid))],
-        receptors=expand("results/eyes/{eye}/receptors.csv", eye=NAVIGATION["eyes"]),
+        receptors=lambda w: expand("results/eyes/{eye}/receptors.csv", eye=grid_eyes(w.grid)),
     output:
         ridf="results/navigation/{scene}/{grid}/ridf.csv",
         tidf="results/navigation/{scene}/{grid}/tidf.csv",
@@ -78,8 +85,8 @@ rule navigation_idf:
         figure=report("results/navigation/{scene}/{grid}/catchment.png", caption="../report/catchment.rst",
                       category="Navigation", subcategory="{scene} {grid}"),
     params:
-        eyes=[EYES_DIR / eye / "eye.yaml" for eye in NAVIGATION["eyes"]],
-        names=NAVIGATION["eyes"],
+        eyes=lambda w: [EYES_DIR / eye / "eye.yaml" for eye in grid_eyes(w.grid)],
+        names=lambda w: grid_eyes(w.grid),
         navigation=NAVIGATION,
     log:
         "results/logs/navigation/{scene}/{grid}/idf.log",
