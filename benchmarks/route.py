@@ -55,7 +55,9 @@ def main(argv=None):
     parser.add_argument("--threads", type=int, default=os.cpu_count(), help="threads (default: the cores, %(default)s)")
     args = parser.parse_args(argv)
     # The views' settings as the config's defaults give them to a flight.
-    config = validate_config({"flights": {"route": {"scene": args.scene, "path": args.flight, "eyes": [args.eye]}}},
+    # A run of this eye in this scene, so that the flight is not narrowed away as outside the default run's.
+    config = validate_config({"eyes": [args.eye], "scenes": [args.scene],
+                              "flights": {"route": {"scene": args.scene, "path": args.flight, "eyes": [args.eye]}}},
                              CONFIG_SCHEMA, folders=False)
     views = config["flights"]["route"]["views"]
     receptors = ROOT / "results" / "eyes" / args.eye / "receptors.csv"
