@@ -103,8 +103,9 @@ def trace_maps(scene_file, receptor_files, eye_files, folder, *, places, navigat
                  x.flat[place], y.flat[place], z, len(env.nearness), env.spacing_deg, ", ".join(env.catches))
 
 
-def eye_differences(maps, eye, reference, navigation, threads=None):
-    """One eye's rIDFs and valleys at every place against the reference view, in every signal.
+def eye_differences(files, eye, reference, navigation, threads=None):
+    """One eye's rIDFs and valleys at every place (a map file each, read when its turn comes) against the
+    reference view, in every signal.
 
     Returns
     -------
@@ -112,15 +113,17 @@ def eye_differences(maps, eye, reference, navigation, threads=None):
     valleys : dict of str to (heading_deg, depth, width_deg), each (places,)
     """
     step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
-    weights = eye_weights(maps[0], eye)
+    reference_map = read_map(files[reference])
+    weights = eye_weights(reference_map, eye)
     at = round(heading / step)
-    own = turned(maps[reference], eye, weights, step, threads)
+    own = turned(reference_map, eye, weights, step, threads)
     base = own[at]
     names = [s for s in idf.signal_names(eye.receptor_set) if s in navigation["signals"]]
     ridf = {s: [] for s in names}
-    # Place by place: a place's views at every heading are (headings × receptors × classes), some 100 MB.
-    for place, env in enumerate(maps):
-        views = own if place == reference else turned(env, eye, weights, step, threads)
+    # Place by place, a map at a time: a place's views at every heading are (headings × receptors × classes),
+    # some 100 MB, and the full grid's maps some 10 GB.
+    for place, file in enumerate(files):
+        views = own if place == reference else turned(read_map(file), eye, weights, step, threads)
         differences = idf.ridf(views, base, eye.receptor_set)
         for s in names:
             ridf[s].append(differences[s])
@@ -140,30 +143,29 @@ def image_differences(map_folders, receptor_files, eye_files, eye_names, outputs
     folders of :func:`trace_maps`): ``outputs`` ``ridf``, ``tidf``, ``places``, ``catchment`` (CSV) and
     ``figure`` (PNG)."""
     files = sorted((f for d in map_folders for f in Path(d).glob("*.npz")), key=lambda f: int(f.stem))
-    maps = [read_map(f) for f in files]
+    # The places first, a map at a time (each map read whole, and so checked).
+    x, y = np.array([read_map(f).position_m[:2] for f in files]).T
     spec = navigation["grids"][grid]
-    x = np.array([m.position_m[0] for m in maps])
-    y = np.array([m.position_m[1] for m in maps])
-    side = int(round(np.sqrt(len(maps))))
-    reference = len(maps) // 2
+    side = int(round(np.sqrt(len(files))))
+    reference = len(files) // 2
     step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
     ridf_rows, tidf_rows, place_rows, catch_rows, panels = [], [], [], [], []
     eyes = eyes_of(receptor_files, eye_files)
     check(navigation, dict(zip(eye_names, (e.receptor_set for e in eyes))))
     for name, eye in zip(eye_names, eyes):
-        ridf, valleys = eye_differences(maps, eye, reference, navigation, threads)
+        ridf, valleys = eye_differences(files, eye, reference, navigation, threads)
         for s, r in ridf.items():
             headings = np.arange(r.shape[1]) * step
             ridf_rows.append({"eye": np.full(r.size, name), "signal": np.full(r.size, s),
-                              "place": np.repeat(np.arange(len(maps)), r.shape[1]),
-                              "heading_deg": np.tile(headings, len(maps)), "idf": r.ravel()})
+                              "place": np.repeat(np.arange(len(files)), r.shape[1]),
+                              "heading_deg": np.tile(headings, len(files)), "idf": r.ravel()})
             tidf = r[:, round(heading / step)]
             best, depth, width = valleys[s]
             field = tidf.reshape(side, side)
             inside = catchment.catchment(field, np.unravel_index(reference, field.shape))
             area, along, across = catchment.extent(inside, x.reshape(side, side), y.reshape(side, side), heading,
                                                    spec["spacing_m"])
-            n = len(maps)
+            n = len(files)
             tidf_rows.append({"eye": np.full(n, name), "signal": np.full(n, s), "place": np.arange(n), "x_m": x,
                               "y_m": y, "tidf": tidf, "tidf_best": r.min(axis=1),
                               "in_catchment": inside.ravel().astype(int)})
