@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 
 from beeoptics.eye.optics import angular_sensitivity
+from beeoptics.images.display import EXPOSURE_PERCENTILE
 from beeoptics.io.atomic import atomic_path
 
 #: PNG metadata without a version string, so figures do not change with matplotlib's.
@@ -701,7 +702,10 @@ def catchment_areas(panels, reference_xy, heading_deg, path, title):
     for ax, (label, x, y, field, inside, step) in zip(axes, panels):
         spacing = x[0, 1] - x[0, 0] if x.shape[1] > 1 else 1.0
         edges = (x.min() - spacing / 2, x.max() + spacing / 2, y.min() - spacing / 2, y.max() + spacing / 2)
-        ax.imshow(field, origin="lower", extent=edges, cmap="Greys", interpolation="nearest")
+        # Black at the display's exposure percentile, not at the maximum: a place inside a flower head differs
+        # from the reference many times as much as the rest, which a maximum would leave white.
+        ax.imshow(field, origin="lower", extent=edges, cmap="Greys", interpolation="nearest", vmin=0.0,
+                  vmax=np.nanpercentile(field, EXPOSURE_PERCENTILE))
         ax.set_xlim(edges[:2])
         ax.set_ylim(edges[2:])
         moves = step.ravel() != np.arange(step.size)
@@ -720,6 +724,7 @@ def catchment_areas(panels, reference_xy, heading_deg, path, title):
         ax.tick_params(labelsize=6)
     for ax in axes[len(panels):]:
         ax.set_axis_off()
-    fig.suptitle(textwrap.fill(f"{title} (grey: tIDF, darker higher; arrows: its descent, place to place; blue: the catchment "
-                               "area and the reference place and heading; x, y in m)", 40 * columns), fontsize=8)
+    fig.suptitle(textwrap.fill(f"{title} (grey: tIDF, darker higher, black from its {EXPOSURE_PERCENTILE:g}th "
+                               "percentile; arrows: its descent, place to place; blue: the catchment area and the "
+                               "reference place and heading; x, y in m)", 40 * columns), fontsize=8)
     save(fig, path)
