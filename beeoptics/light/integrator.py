@@ -861,17 +861,24 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
     live = np.arange(n * s)
     cover = None
     for event in range(depth + 1):
-        out = first_hits(rs, paths.rays)
         counts["cast"] += len(live)
-        hit = np.isfinite(out["t_hit"])
-        if event == 0 and target is not None:
-            cover = _target_share(paths.rays, out["t_hit"], hit, paths.w, bundle, n, *target)
-        material = np.full(len(live), -1, np.int64)
-        material[hit] = surfaces.material(out["geometry_ids"][hit].astype(np.int64),
-                                          out["primitive_ids"][hit].astype(np.int64), out["primitive_uvs"][hit])
-        found, sun_shadows, sky_shadows, scattered = _arrive(
-            event, depth, live, paths, Hits(out["t_hit"], out["primitive_normals"], material), shading, light, sensor,
-            sequences, numbers, seed, eps)
+        if event == depth and not lights.glows.any():
+            # The last rays only see the sky where they leave the scene (no surface they meet glows, and none
+            # scatters them again): whether each meets a surface is all they ask of Embree, which answers it
+            # without finding the nearest.
+            material = np.where(occluded(rs, paths.rays), 0, -1)
+            hits = Hits(np.zeros(len(live), np.float32), np.zeros((len(live), 3), np.float32), material)
+        else:
+            out = first_hits(rs, paths.rays)
+            hit = np.isfinite(out["t_hit"])
+            if event == 0 and target is not None:
+                cover = _target_share(paths.rays, out["t_hit"], hit, paths.w, bundle, n, *target)
+            material = np.full(len(live), -1, np.int64)
+            material[hit] = surfaces.material(out["geometry_ids"][hit].astype(np.int64),
+                                              out["primitive_ids"][hit].astype(np.int64), out["primitive_uvs"][hit])
+            hits = Hits(out["t_hit"], out["primitive_normals"], material)
+        found, sun_shadows, sky_shadows, scattered = _arrive(event, depth, live, paths, hits, shading, light, sensor,
+                                                             sequences, numbers, seed, eps)
         contributions.append(found)
         for shadows, first_light in ((sun_shadows, lights.sun), (sky_shadows, 0)):
             if len(shadows.row):
