@@ -45,7 +45,8 @@ from beeoptics.pipeline.outputs import channel, retinal_images as retinal_output
 from beeoptics.raycasting import first_hits
 from beeoptics.sky.dome import white_radiance
 from beeoptics.spectra import grid
-from beeoptics.tracing import class_catches, human_srgb, render_human, respond, trace_cones, trace_receptors
+from beeoptics.tracing import (class_catches, human_srgb, render_human, replicate_errors, respond, trace_cones,
+                               trace_receptors)
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import (DEFAULT_CURVES, DEFAULT_SET, ReceptorSet, curves, lacking, load_receptor_set,
                                           ommatidium_names, ommatidium_types, receptor_set_of)
@@ -324,6 +325,10 @@ class View:
         The samples of each receptor's estimate.
     radiance_se : ndarray, optional
         The radiance's standard error, as ``radiance``.
+    replicates : ndarray (receptors, replicates, wavelengths), optional
+        The trace's replicate estimates of the radiance (of a Stokes vector's, (receptors, replicates,
+        3 × wavelengths)), from which ``radiance_se`` and ``replicate_catches`` are made on first use
+        where not given (:func:`beeoptics.tracing.replicate_errors`).
     background : str
         The von Kries adapting background: ``"scene"``, or a material of the scene.
     sensitivities : str
@@ -344,14 +349,34 @@ class View:
     """
 
     def __init__(self, eye, scene, radiance, *, placed=None, replicate_catches=None, samples=None, radiance_se=None,
-                 background=config_default("colour.background"), sensitivities=DEFAULT_CURVES, stokes=None,
-                 cover=None, counts=None, relative=None):
+                 replicates=None, background=config_default("colour.background"), sensitivities=DEFAULT_CURVES,
+                 stokes=None, cover=None, counts=None, relative=None):
         self.eye, self.scene, self.radiance, self.wavelengths_nm = eye, scene, radiance, scene.wavelengths_nm
         self.placed = scene.scene if placed is None else placed
-        self.replicate_catches, self.samples, self.radiance_se = replicate_catches, samples, radiance_se
-        self.background, self.sensitivities = background, sensitivities
+        self._replicate_catches, self.samples, self._radiance_se = replicate_catches, samples, radiance_se
+        self._replicates, self.background, self.sensitivities = replicates, background, sensitivities
         self.stokes, self.cover, self.counts = stokes, cover, counts or {}
         self._relative, self._responses, self._catches = relative, None, None
+
+    def _errors(self):
+        """The radiance's standard error and the replicates' catches, made of the replicates kept for them."""
+        if self._replicates is not None:
+            rset, wl = self.eye.receptor_set, self.wavelengths_nm
+            made = replicate_errors(self._replicates, acceptance_solid_angle(self.eye.table.delta_rho_deg),
+                                    (wl, curves(rset, wl, self.sensitivities)), len(wl))
+            self._radiance_se, self._replicate_catches, self._replicates = made["radiance_se"], made["catches"], None
+
+    @property
+    def radiance_se(self):
+        """The radiance's standard error over the trace's replicates, as ``radiance`` (None without them)."""
+        self._errors()
+        return self._radiance_se
+
+    @property
+    def replicate_catches(self):
+        """Each replicate's catch of each class, (receptors, replicates, classes) (None without them)."""
+        self._errors()
+        return self._replicate_catches
 
     def _respond(self):
         if self._responses is None:
@@ -395,16 +420,16 @@ class View:
         hits = first_hits(self.scene.raycasting, np.column_stack([origins, axes]).astype(np.float32))
         return hits["t_hit"].astype(np.float64)
 
-    def class_catches(self):
+    def class_catches(self, errors=True):
         """Each receptor's quantum catch of each class of the eye's receptor set (photons m⁻² s⁻¹, as
         ``responses.csv``; NaN for a class its ommatidium lacks) and their standard errors (None without the
-        trace's replicates): ndarrays (receptors, classes), without the colour the tables add (what a closed
-        loop observes, :class:`beeoptics.loop.BeeView`)."""
-        if self._catches is None:
+        trace's replicates, or where ``errors`` is false): ndarrays (receptors, classes), without the colour
+        the tables add (what a closed loop observes, :class:`beeoptics.loop.BeeView`)."""
+        if self._catches is None or (errors and self._catches[1] is None):
             rset = self.eye.receptor_set
             self._catches = class_catches(self.eye.table, self.radiance, self.wavelengths_nm, rset,
                                           curves(rset, self.wavelengths_nm, self.sensitivities),
-                                          self.replicate_catches)[:2]
+                                          self.replicate_catches if errors else None)[:2]
         return self._catches
 
     @property
@@ -641,25 +666,35 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
     config = _config(scene, samples, depth, seed, precision, background, sensitivities, trace, "look")
     placed = _placed(scene, {"position_m": position_m, "heading_deg": heading_deg, "pitch_deg": pitch_deg,
                              "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})})
-    rset, wl, table = eye.receptor_set, scene.wavelengths_nm, eye.table
-    curve = config["colour"]["sensitivities"]
-    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=rset)
+    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=eye.receptor_set)
     if not (isinstance(parts, numbers.Integral) and isinstance(part, numbers.Integral) and 0 <= part < parts):
         raise InputError("look", "part", f"share {part!r} of {parts!r}: parts is a whole number from 1, part one "
                          "from 0 below it")
-    bounds = np.linspace(0, len(table.id), parts + 1).round().astype(int)
-    first, last = bounds[part], bounds[part + 1]
+    bounds = np.linspace(0, len(eye.table.id), parts + 1).round().astype(int)
+    return _traced_view(eye, scene, placed, settings, config["colour"], bounds[part], bounds[part + 1],
+                        progress=progress, polarised=polarised, target=target)
+
+
+def _traced_view(eye, scene, placed, settings, colour, first, last, *, progress=None, polarised=False, target=None,
+                 enclosure=True, deferred=False):
+    """The view of the eye's receptors ``first``..``last`` in ``placed`` (the scene with the head at its pose),
+    traced with ``settings`` (TraceSettings) and coloured by ``colour`` (a config's checked ``colour``
+    section): :func:`look` once its arguments are checked, which a closed loop checks once for all its looks
+    (:class:`beeoptics.loop.BeeView`). ``enclosure`` and ``deferred``: as
+    :func:`beeoptics.tracing.trace_receptors` takes them, the errors then made on first use."""
+    rset, wl, table = eye.receptor_set, scene.wavelengths_nm, eye.table
+    curve = colour["sensitivities"]
     errors = {}
     traced = trace_receptors(placed, table, first, last, settings, len(wl), progress, rs=scene.raycasting,
                              polarised=polarised, target=target, sensitivities=(wl, curves(rset, wl, curve)),
-                             errors=errors)
+                             errors=errors, enclosure=enclosure, deferred=deferred)
     radiance = traced[0][:, 0] if polarised else traced[0]
-    if parts > 1:
+    if last - first < len(table.id):
         eye = Eye(eye.path, rows_of(table, slice(first, last)), rset, eye.eye_file)
-    return View(eye, scene, radiance, placed=placed, replicate_catches=errors["catches"], samples=errors["samples"],
-                radiance_se=errors["radiance_se"], background=config["colour"]["background"], sensitivities=curve,
-                stokes=traced[0] if polarised else None, cover=traced[2] if target is not None else None,
-                counts=traced[1])
+    return View(eye, scene, radiance, placed=placed, replicate_catches=errors.get("catches"),
+                samples=errors["samples"], radiance_se=errors.get("radiance_se"), replicates=errors.get("replicates"),
+                background=colour["background"], sensitivities=curve, stokes=traced[0] if polarised else None,
+                cover=traced[2] if target is not None else None, counts=traced[1])
 
 
 #: Frames :func:`looks` traces at once: their receptors' cones in one call, so that Embree's batches

@@ -23,14 +23,16 @@ any number of threads.
 >>> catches, info = env.reset(seed=1)                                 # doctest: +SKIP
 """
 
+import os
 from typing import NamedTuple
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from beeoptics.api import Eye, Scene, load_eye, load_scene, look
+from beeoptics.api import Eye, Scene, _config, _placed, _traced_view, load_eye, load_scene
 from beeoptics.io.errors import InputError
+from beeoptics.light.batching import TraceSettings
 from beeoptics.raycasting import first_hits
 
 #: The fastest forward (and vertical) speed, m/s: the cruising speed of unloaded honey bees outdoors,
@@ -147,6 +149,11 @@ class BeeView(gym.Env):
         self.reward = approach(target_m) if reward is None else reward
         self.terminated = met_surface if terminated is None else terminated
         self.samples, self.depth, self.errors, self.threads = samples, depth, errors, threads
+        # The look's settings, checked once: a step's look only draws its seed.
+        config = _config(self.scene, samples, depth, None, None, None, None, None, "BeeView")
+        self._settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(),
+                                                   receptor_set=self.eye.receptor_set)
+        self._colour = config["colour"]
         self.step_s, self.max_steps = float(step_s), int(max_steps)
         self.classes = list(self.eye.receptor_set.classes)
         catches = spaces.Box(0.0, np.inf, (len(self.eye.table.id), len(self.classes)), np.float32)
@@ -208,14 +215,18 @@ class BeeView(gym.Env):
                 self._info(met))
 
     def _look(self):
-        """The view from the head's pose, traced with a seed drawn from ``np_random``: (observation, View)."""
-        view = look(self.eye, self.scene, position_m=self._position, heading_deg=self._heading,
-                    samples=self.samples, depth=self.depth, seed=int(self.np_random.integers(2**31)),
-                    threads=self.threads)
-
+        """The view from the head's pose, traced with a seed drawn from ``np_random``: (observation, View),
+        :func:`beeoptics.look`'s view. Whether the eye sits enclosed is asked at a reset only (a step stops
+        at surfaces), and the errors are made only where observed (the view makes them when asked)."""
+        placed = _placed(self.scene, {"position_m": self._position, "heading_deg": self._heading})
+        view = _traced_view(self.eye, self.scene, placed,
+                            self._settings._replace(seed=int(self.np_random.integers(2**31))), self._colour, 0,
+                            len(self.eye.table.id), enclosure=self._steps == 0, deferred=True)
         self._view = view
-        catches, se = (np.nan_to_num(v, nan=0.0).astype(np.float32) for v in view.class_catches())
-        return ({"catches": catches, "se": se} if self.errors else catches), view
+        catches, se = view.class_catches(errors=self.errors)
+        catches = np.nan_to_num(catches, nan=0.0).astype(np.float32)
+        return ({"catches": catches, "se": np.nan_to_num(se, nan=0.0).astype(np.float32)} if self.errors
+                else catches), view
 
     def render(self):
         """With ``render_mode="rgb_array"``, the last look's visual field of both eyes in the bee's colours

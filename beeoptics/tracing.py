@@ -39,7 +39,7 @@ HUMAN_WHITE_PERCENTILE = 99.0
 
 
 def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress=None, rs=None, polarised=False,
-                    target=None, sensitivities=None, errors=None):
+                    target=None, sensitivities=None, errors=None, enclosure=True, deferred=False):
     """The mean spectral radiance (last − first, n_wavelengths) of receptors ``first``..``last`` of a table,
     and the ray counts, wall and CPU seconds (as :func:`trace_part`); ``rs``, the scene's Embree scene if already built.
 
@@ -48,10 +48,12 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
     (:func:`beeoptics.light.integrator.trace_paths`). ``target``, a sphere
     (centre, radius; scene units): also the share of each receptor's
     acceptance whose samples met it first, (last − first,), a third result.
-    ``sensitivities`` and ``errors``: as :func:`trace_cones` takes them."""
+    ``sensitivities``, ``errors`` and ``deferred``: as :func:`trace_cones` takes them. ``enclosure``: warn
+    where the eye seems enclosed (its receptors' axes meeting back faces, a ray each); a closed loop asks it
+    of its first look only, its steps stopping at surfaces."""
     origins, axes = receptors_in_world(scene, table.position, table.axis)
     rs = raycasting_scene(scene) if rs is None else rs
-    met, back = back_faces_met(rs, origins[first:last], axes[first:last])
+    met, back = back_faces_met(rs, origins[first:last], axes[first:last]) if enclosure else (0, 0)
     if back > BACK_FACES_ENCLOSED * met:
         log.warning("%.0f%% of the receptors whose axis meets a surface meet its back face (%d of %d): the eye "
                     "may sit below the ground or inside a closed mesh; the scene's eye.position_m places it",
@@ -61,7 +63,7 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
     # Each receptor draws the random numbers of its id, so that it is traced alike in any table that holds it.
     out = trace_cones(scene, origins, axes, table.delta_rho_deg, np.asarray(table.id, np.int64), first, last,
                       settings, n_wavelengths, progress, rs, scene.eye_rotation[:, 2] if polarised else None, target,
-                      sensitivities, errors)
+                      sensitivities, errors, deferred)
     counts = out[1]
     log.info("traced receptors %d to %d: %d rays and %d shadow rays in %.1f s", first, last, counts["cast"],
              counts["shadow"], counts["seconds"])
@@ -69,7 +71,7 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
 
 
 def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, settings, n_wavelengths, progress=None,
-                rs=None, dorsal=None, target=None, sensitivities=None, errors=None):
+                rs=None, dorsal=None, target=None, sensitivities=None, errors=None, deferred=False):
     """The mean spectral radiance of acceptance cones ``first``..``last`` at ``origins`` (m) along ``axes``,
     and the ray counts, wall and CPU seconds, as :func:`trace_receptors` gives them.
 
@@ -105,6 +107,10 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         not among them) and, with ``sensitivities``, ``catches``: each replicate's catches
         (n, replicates, k) over the acceptance solid angle, as
         :func:`respond` computes them from the mean.
+    deferred : bool
+        Fill ``errors`` with the ``replicates`` themselves (n, replicates, columns) in place of
+        ``radiance_se`` and ``catches``, which :func:`replicate_errors` makes of them when asked (a
+        closed loop observes its catches alone, and the errors are most of the work after the trace).
     """
     sigma = cone_sigma(delta_rho_deg)
     rs = raycasting_scene(scene) if rs is None else rs
@@ -138,14 +144,6 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     columns = stokes * n_wavelengths + (target is not None)
     omega = acceptance_solid_angle(np.broadcast_to(delta_rho_deg, (len(origins),)))
 
-    def catches(spectra, cones=slice(first, last)):
-        """Catches over the acceptance of radiance spectra (..., n_wavelengths) of ``cones``: the curves', or
-        without them a flat receptor's (the radiance summed over the grid)."""
-        irradiance = spectra * omega[cones].reshape(-1, *[1] * (spectra.ndim - 1))
-        if sensitivities is None:
-            return irradiance.sum(axis=-1, keepdims=True)
-        return quantum_catches(irradiance, sensitivities[1], sensitivities[0])
-
     precision = settings.precision
     if precision is None:
         k, m = replicate_samples(settings.samples)
@@ -166,10 +164,10 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         # The pilot's own K replicates (fewer than eight where min_samples is below eight), and no progress
         # of its own: the bar follows the estimate's trace.
         pilot = trace_bundles(trace_pilot, 0, len(cones), settings, columns, np.full(len(cones), m), range(k))
-        white = catches(np.broadcast_to(white_radiance(scene.sky, scene.sun, n_wavelengths),
-                                        (len(cones), n_wavelengths)), cones)
-        samples = adaptive_samples(catches(pilot[..., :n_wavelengths], cones), white, precision,
-                                   rows.reshape(near.shape))
+        white = cone_catches(np.broadcast_to(white_radiance(scene.sky, scene.sun, n_wavelengths),
+                                             (len(cones), n_wavelengths)), omega[cones], sensitivities)
+        samples = adaptive_samples(cone_catches(pilot[..., :n_wavelengths], omega[cones], sensitivities), white,
+                                   precision, rows.reshape(near.shape))
         replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k, 2 * k), progress)
         log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
                  k * samples.min(initial=0), k * samples.max(initial=0), k * samples.mean() if len(samples) else 0,
@@ -179,16 +177,38 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
     if target is not None:
         radiance, cover, replicates = radiance[:, :-1], radiance[:, -1], replicates[..., :-1]
     if errors is not None:
-        se = standard_error(replicates)
-        errors["radiance_se"] = se if dorsal is None else se.reshape(-1, stokes, n_wavelengths)
         errors["samples"] = k * samples
-        if sensitivities is not None:
-            # Of the intensity, where the radiance is a Stokes vector: its first n_wavelengths columns.
-            errors["catches"] = catches(replicates[..., :n_wavelengths])
+        if deferred:
+            errors["replicates"] = replicates
+        else:
+            errors.update(replicate_errors(replicates, omega[first:last], sensitivities, n_wavelengths))
     if dorsal is not None:
         radiance = radiance.reshape(-1, stokes, n_wavelengths)
     counts["seconds"], counts["cpu_seconds"] = time.perf_counter() - start, time.process_time() - cpu
     return (radiance, counts) if target is None else (radiance, counts, cover)
+
+
+def cone_catches(spectra, omega, sensitivities):
+    """Catches over the acceptance of radiance spectra (n, ..., n_wavelengths) of cones of acceptance solid
+    angles ``omega`` (n,), sr: of ``sensitivities`` (the grid, nm, and the curves on it, (n_wavelengths,
+    k)), photons m⁻² s⁻¹, or without them a flat receptor's (the radiance summed over the grid): (n, ..., k)."""
+    irradiance = spectra * omega.reshape(-1, *[1] * (spectra.ndim - 1))
+    if sensitivities is None:
+        return irradiance.sum(axis=-1, keepdims=True)
+    return quantum_catches(irradiance, sensitivities[1], sensitivities[0])
+
+
+def replicate_errors(replicates, omega, sensitivities, n_wavelengths):
+    """What cones' replicates (n, K, n_wavelengths or 3 × n_wavelengths, a Stokes vector's) say of their
+    errors: ``radiance_se``, the mean radiance's standard error (n, n_wavelengths), or (n, 3, n_wavelengths)
+    of a Stokes vector, and with ``sensitivities`` (as :func:`cone_catches` takes them) ``catches``, each
+    replicate's catches (n, K, k) over the acceptance solid angles ``omega`` (n,), sr, of the intensity."""
+    se = standard_error(replicates)
+    out = {"radiance_se": se if se.shape[1] == n_wavelengths else se.reshape(len(se), -1, n_wavelengths)}
+    if sensitivities is not None:
+        # Of the intensity, where the radiance is a Stokes vector: its first n_wavelengths columns.
+        out["catches"] = cone_catches(replicates[..., :n_wavelengths], omega, sensitivities)
+    return out
 
 
 def class_catches(table, radiance, wl, receptor_set, sensitivities, replicate_catches=None):
