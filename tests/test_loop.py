@@ -10,8 +10,12 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import beeoptics
+import beeoptics.tracing
 from beeoptics.io.errors import InputError
+from beeoptics.light import integrator
 from beeoptics.loop import SPEED_MAX_M_S, BeeView
+from beeoptics.raycasting import first_hits
+from beeoptics.replicates import standard_error
 from conftest import ROOT
 
 DATA = ROOT / "tests" / "data"
@@ -100,3 +104,33 @@ def test_bad_input_is_refused_naming_the_field(eye, scene, make, field):
     with pytest.raises(InputError) as refused:
         make(eye, scene)
     assert refused.value.field == field
+
+
+def test_a_step_leaves_the_errors_it_does_not_observe_to_be_made_when_asked_and_they_are_the_looks(
+        eye, scene, monkeypatch):
+    made = []
+    monkeypatch.setattr(beeoptics.tracing, "standard_error",
+                        lambda *a, **k: made.append(1) or standard_error(*a, **k))
+    env = BeeView(eye, scene, target_m=[0.12, 0.0, 0.06], **FAST)
+    env.reset(seed=2)
+    observation, _, _, _, info = env.step([0.3, 45.0])
+    assert not made
+    # Drawn as the loop draws a look's seed: its generator's second number after the reset.
+    rng = np.random.default_rng(2)
+    seed = [int(rng.integers(2**31)) for _ in range(2)][1]
+    # On other threads than the loop's (all the cores).
+    view = beeoptics.look(eye, scene, position_m=info["position_m"], heading_deg=info["heading_deg"], seed=seed,
+                          threads=1, **FAST)
+    np.testing.assert_array_equal(observation, np.nan_to_num(view.class_catches()[0]).astype(np.float32))
+    for field in ("radiance", "radiance_se", "replicate_catches"):
+        np.testing.assert_array_equal(getattr(env._view, field), getattr(view, field))
+
+
+def test_the_last_rays_asked_only_whether_they_meet_a_surface_give_the_nearest_hits_radiance(eye, scene, monkeypatch):
+    nearest = []
+    monkeypatch.setattr(integrator, "first_hits", lambda rs, rays: nearest.append(len(rays)) or first_hits(rs, rays))
+    quick = beeoptics.look(eye, scene, seed=4, threads=1, **FAST)
+    # At depth 1, only the sensors' rays are asked for their nearest hits; the scattered ones whether they meet any.
+    assert nearest == [len(eye.table.id) * FAST["samples"]]
+    monkeypatch.setattr(integrator, "occluded", lambda rs, rays: np.isfinite(first_hits(rs, rays)["t_hit"]))
+    np.testing.assert_array_equal(quick.radiance, beeoptics.look(eye, scene, seed=4, threads=1, **FAST).radiance)
