@@ -23,12 +23,14 @@ any number of threads.
 >>> catches, info = env.reset(seed=1)                                 # doctest: +SKIP
 """
 
+import functools
 import os
 from typing import NamedTuple
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
+from threadpoolctl import ThreadpoolController
 
 from beeoptics.api import Eye, Scene, _config, _placed, _traced_view, load_eye, load_scene
 from beeoptics.io.errors import InputError
@@ -71,6 +73,12 @@ class Step(NamedTuple):
     met: bool
     view: object
     time_s: float
+
+
+@functools.cache
+def _blas():
+    """The process's BLAS libraries, found once (threadpoolctl), to be held to one thread while a loop looks."""
+    return ThreadpoolController()
 
 
 def approach(target_m):
@@ -219,11 +227,15 @@ class BeeView(gym.Env):
         :func:`beeoptics.look`'s view. Whether the eye sits enclosed is asked at a reset only (a step stops
         at surfaces), and the errors are made only where observed (the view makes them when asked)."""
         placed = _placed(self.scene, {"position_m": self._position, "heading_deg": self._heading})
-        view = _traced_view(self.eye, self.scene, placed,
-                            self._settings._replace(seed=int(self.np_random.integers(2**31))), self._colour, 0,
-                            len(self.eye.table.id), enclosure=self._steps == 0, deferred=True)
-        self._view = view
-        catches, se = view.class_catches(errors=self.errors)
+        # BLAS on one thread: the tracer's threads keep the cores busy, and OpenBLAS's own, woken by the
+        # catches' products, would spin on after them, taking a core from the next look's trace (a quarter of
+        # a low-fidelity step's CPU seconds).
+        with _blas().limit(limits=1, user_api="blas"):
+            view = _traced_view(self.eye, self.scene, placed,
+                                self._settings._replace(seed=int(self.np_random.integers(2**31))), self._colour, 0,
+                                len(self.eye.table.id), enclosure=self._steps == 0, deferred=True)
+            self._view = view
+            catches, se = view.class_catches(errors=self.errors)
         catches = np.nan_to_num(catches, nan=0.0).astype(np.float32)
         return ({"catches": catches, "se": np.nan_to_num(se, nan=0.0).astype(np.float32)} if self.errors
                 else catches), view
