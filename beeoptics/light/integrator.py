@@ -674,8 +674,9 @@ def _sun_in_cones(origins, bundle, u, lights, cones):
 
 
 @kernel
-def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, depth, sequences):
-    """Each bundle's spectral sum of its paths' contributions, (n, n_stokes, n_wavelengths).
+def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, depth, sequences, total):
+    """Each bundle's spectral sum of its paths' contributions over its sum of weights ``total`` (n,): its
+    mean, (n, n_stokes, n_wavelengths).
 
     ``weight`` (k, n_stokes) holds each contribution's intensity, or Stokes
     vector (I, Q, U). A contribution's column is a sequence's number (its index in the list
@@ -719,7 +720,14 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
                 nt += 1
             for q in range(n_stokes):
                 cell[c, q] += weight[j, q]
-        for r in np.sort(touched[:nt]):
+        # Its few columns in increasing rank, sorted in place (insertion), not a new array per bundle.
+        for a in range(1, nt):
+            t, j = touched[a], a - 1
+            while j >= 0 and touched[j] > t:
+                touched[j + 1] = touched[j]
+                j -= 1
+            touched[j + 1] = t
+        for r in touched[:nt]:
             c = by_value[r]
             if not made[c]:
                 # The product of the reflectance spectra that the sequence's digits name, times the light.
@@ -739,6 +747,9 @@ def _sum_contributions(bundle, column, weight, n, lights, reflectance, radix, de
                     out[b, q, x] += cell[c, q] * spectra[c, x]
                 cell[c, q] = 0.0
             seen[c] = False
+        for q in range(n_stokes):
+            for x in range(n_wl):
+                out[b, q, x] /= total[b]
     return out
 
 
@@ -891,8 +902,7 @@ def trace_paths(scene, origins, directions, weights, *, depth, seed, streams=Non
 
     b, combo, weight = (np.concatenate(c) for c in zip(*contributions))
     total = weights.sum(axis=1)
-    out = _sum_contributions(b, combo, weight, n, lights.spectra, scene.reflectance, radix, depth, sequences)
-    out /= total[:, None, None]
+    out = _sum_contributions(b, combo, weight, n, lights.spectra, scene.reflectance, radix, depth, sequences, total)
     out = out if polarised else out[:, 0]
     return out if target is None else (out, cover / total)
 
