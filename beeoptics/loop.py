@@ -44,7 +44,10 @@ SPEED_MAX_M_S = 7.5
 #: The time step, s: the views' frame rate along a flight (the configuration's ``flights.*.fps``, 10 a second).
 STEP_S = 0.1
 #: A few samples at depth 1: the first surfaces met, lit directly by the sun and the sky (``BeeView(...,
-#: **LOW_FIDELITY)``); ``benchmarks/loop.py`` prints its error against the views' 16 samples.
+#: **LOW_FIDELITY)``); ``benchmarks/loop.py`` prints its error against the views' 16 samples: for the worker
+#: in the meadow, receptor by receptor, a median difference of 10 % of the catch (UV 10.0 %, B 9.8 %, G 9.6 %)
+#: and a root mean square of 84–85 %, made by a tail (at one pose, a tenth of the receptors' catches at 2 samples
+#: are off those at 256 by 100 % or more; the README's "Closed loop").
 LOW_FIDELITY = {"samples": 2, "depth": 1}
 
 
