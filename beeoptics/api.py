@@ -581,6 +581,12 @@ def _config(scene, samples, depth, seed, precision, background, sensitivities, t
     return config
 
 
+def _settings(config, threads, receptor_set):
+    """How a config's checked ``trace`` section traces receptors of ``receptor_set`` on ``threads`` threads
+    (all cores where None): :class:`beeoptics.light.batching.TraceSettings`."""
+    return TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=receptor_set)
+
+
 def _placed(scene, pose):
     """The scene with the head at ``pose`` (a mapping: ``position_m`` and either ``rotation``, 3 × 3, its
     columns the head's axes in the world, or ``heading_deg``, ``pitch_deg``, ``roll_deg``); a part of it not
@@ -666,7 +672,7 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
     config = _config(scene, samples, depth, seed, precision, background, sensitivities, trace, "look")
     placed = _placed(scene, {"position_m": position_m, "heading_deg": heading_deg, "pitch_deg": pitch_deg,
                              "roll_deg": roll_deg, **({} if rotation is None else {"rotation": rotation})})
-    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=eye.receptor_set)
+    settings = _settings(config, threads, eye.receptor_set)
     if not (isinstance(parts, numbers.Integral) and isinstance(part, numbers.Integral) and 0 <= part < parts):
         raise InputError("look", "part", f"share {part!r} of {parts!r}: parts is a whole number from 1, part one "
                          "from 0 below it")
@@ -735,7 +741,7 @@ def looks(eye, scene, poses, *, samples=None, depth=None, seed=None, precision=N
     config = _config(scene, samples, depth, seed, precision, background, sensitivities, trace, "looks")
     rset, wl, table = eye.receptor_set, scene.wavelengths_nm, eye.table
     curve = config["colour"]["sensitivities"]
-    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=rset)
+    settings = _settings(config, threads, rset)
     sens = (wl, curves(rset, wl, curve))
     n, width = len(table.id), int(table.id.max()) + 1
     total = len(poses) if hasattr(poses, "__len__") else None
@@ -934,7 +940,7 @@ def look_cones(scene, origins_m, axes, delta_rho_deg, *, streams=None, receptor_
     wl = scene.wavelengths_nm
     sens = None if receptor_set is None else (wl, _curves(receptor_set, wl, config["colour"]["sensitivities"],
                                                           classes, "look_cones"))
-    settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=receptor_set)
+    settings = _settings(config, threads, receptor_set)
     errors = {}
     traced = trace_cones(scene.scene, origins_m, axes, drho, streams, 0, n, settings, len(wl), progress,
                          scene.raycasting, dorsal, target, sens, errors)

@@ -24,7 +24,6 @@ any number of threads.
 """
 
 import functools
-import os
 from typing import NamedTuple
 
 import gymnasium as gym
@@ -32,9 +31,8 @@ import numpy as np
 from gymnasium import spaces
 from threadpoolctl import ThreadpoolController
 
-from beeoptics.api import Eye, Scene, _config, _placed, _traced_view, load_eye, load_scene
+from beeoptics.api import Eye, Scene, _config, _placed, _settings, _traced_view, load_eye, load_scene
 from beeoptics.io.errors import InputError
-from beeoptics.light.batching import TraceSettings
 from beeoptics.raycasting import first_hits
 
 #: The fastest forward (and vertical) speed, m/s: the cruising speed of unloaded honey bees outdoors,
@@ -162,8 +160,7 @@ class BeeView(gym.Env):
         self.samples, self.depth, self.errors, self.threads = samples, depth, errors, threads
         # The look's settings, checked once: a step's look only draws its seed.
         config = _config(self.scene, samples, depth, None, None, None, None, None, "BeeView")
-        self._settings = TraceSettings.from_config(config["trace"], threads or os.cpu_count(),
-                                                   receptor_set=self.eye.receptor_set)
+        self._settings = _settings(config, threads, self.eye.receptor_set)
         self._colour = config["colour"]
         self.step_s, self.max_steps = float(step_s), int(max_steps)
         self.classes = list(self.eye.receptor_set.classes)
