@@ -162,3 +162,15 @@ def test_stages_reach_the_tracer_through_the_api(path):
     uses = internal_uses(path)
     past = [f"{name}:{line}: {what}" for line, what in uses]
     assert not past, f"past the API: {', '.join(past)}"
+
+
+def test_the_stages_that_draw_nothing_import_no_matplotlib():
+    """Remeshing, relaxing, tracing a flight's frames and the detection survey draw nothing: matplotlib, half a
+    second of a job, is imported by the stage functions that draw."""
+    import subprocess
+    import sys
+
+    code = ("import sys, beeoptics.pipeline.eyes, beeoptics.pipeline.flights, beeoptics.pipeline.detection; "
+            "print(' '.join(m for m in ('matplotlib', 'colour', 'plotly') if m in sys.modules))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == ""

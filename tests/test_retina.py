@@ -40,8 +40,7 @@ def test_normalised_density_of_a_uniform_field_is_flat():
     # Crowd the receptors towards one side, as on a real eye.
     xy[:, 0] = np.sign(xy[:, 0]) * np.abs(xy[:, 0]) ** 1.5
     can = canvas(xy, 160)
-    raw = density(can, xy, sides, np.ones(len(xy)), normalise=False)[..., 0]
-    flat = density(can, xy, sides, np.ones(len(xy)), normalise=True)[..., 0]
+    raw, flat = (image[..., 0] for image in density(can, xy, sides, np.ones(len(xy))))
     inner = np.abs(can.xy).max(-1) < 0.8
     # Both eyes lie on the same retinal-plane points here, as mirrored eyes do: the
     # kernel must still spread each eye's receptors over the gaps between them.
@@ -50,6 +49,27 @@ def test_normalised_density_of_a_uniform_field_is_flat():
     # The raw estimate follows receptor density; the normalised one does not.
     assert np.std(raw[inner]) / np.mean(raw[inner]) > 0.1
     np.testing.assert_allclose(flat[inner], 1.0, rtol=1e-9)
+
+
+def test_the_retinal_images_test_each_pixel_against_its_eyes_hull_once(monkeypatch):
+    """The Voronoi and both density images share one test of the pixels against each eye's hull (it was made
+    six times, a second of an eye's images job)."""
+    from types import SimpleNamespace
+
+    from beeoptics.images import retina
+
+    calls = []
+    within_hull = retina.within_hull
+    monkeypatch.setattr(retina, "within_hull", lambda *args: calls.append(1) or within_hull(*args))
+    xy, sides = lattice()
+    # The eye's local frame: its x and y the head's x and z, so that the retinal plane holds the points as given.
+    eye = SimpleNamespace(origin=np.zeros(3), rotation=np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]]))
+    table = SimpleNamespace(position=np.column_stack([xy[:, 0], np.zeros(len(xy)), xy[:, 1]]), side=sides)
+    colours = np.full((len(xy), 3), 0.5)
+    images = retina.retinal_images(eye, table, colours, colours, colours, ["UV", "B", "G"], 60).images
+    assert len(calls) == 2
+    inner = np.abs(retina.canvas(xy, 60).xy).max(-1) < 0.8
+    np.testing.assert_allclose(images["density_map3_normalised"][inner], retina.encode(0.5), rtol=1e-9)
 
 
 def test_map3_shows_a_white_surface_white_and_the_dark_apart_from_outside(tmp_path):

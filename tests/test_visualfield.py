@@ -90,7 +90,15 @@ def test_two_eyes_overlap_where_their_fields_do():
     assert set(np.unique(painted[field.eyes == LEFT])) == {1.0}
 
 
-def test_acuity_table_gives_nyquist_and_rayleigh_limits(tmp_path):
+def test_acuity_table_gives_nyquist_and_rayleigh_limits(tmp_path, monkeypatch):
+    from beeoptics.eye import acuity as acuity_module
+    from beeoptics.pipeline import eyes as eye_stages
+
+    # Each eye's field is mapped once, for its row and its figure alike (it was mapped twice, a second an eye).
+    fields = []
+    for module in (eye_stages, acuity_module):
+        monkeypatch.setattr(module, "visual_field", lambda *args: fields.append(1) or visual_field(*args),
+                            raising=False)
     n = 500
     axes = fibonacci_sphere(2 * n)
     table = ReceptorTable(id=np.arange(2 * n), side=np.repeat(["right", "left"], n), position=np.zeros((2 * n, 3)),
@@ -105,7 +113,7 @@ def test_acuity_table_gives_nyquist_and_rayleigh_limits(tmp_path):
                  {"acuity": tmp_path / "acuity.csv", "fields": tmp_path / "fields.png"}, width_px=90)
     row = read_table(tmp_path / "acuity.csv", numeric=["f_max_cpd_median", "rayleigh_deg_G_median_facet",
                                                         "delta_rho_deg_p50", "receptors"], text=["eye"])
-    assert list(row["eye"]) == ["test"] and row["receptors"][0] == 2 * n
+    assert list(row["eye"]) == ["test"] and row["receptors"][0] == 2 * n and len(fields) == 1
     np.testing.assert_allclose(row["f_max_cpd_median"], 0.25)
     np.testing.assert_allclose(row["rayleigh_deg_G_median_facet"], np.degrees(1.22 * 544e-9 / 20e-6), rtol=1e-6)
     np.testing.assert_allclose(row["delta_rho_deg_p50"], 2.6)

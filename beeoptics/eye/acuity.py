@@ -2,11 +2,11 @@
 
 import numpy as np
 
-from beeoptics.eye.fieldofview import MAP_WIDTH_PX, extent, visual_field
+from beeoptics.eye.fieldofview import extent
 from beeoptics.eye.optics import nyquist_limit_cpd, rayleigh_limit_deg
 
 
-def acuity(table, rayleigh_nm, width_px=MAP_WIDTH_PX):
+def acuity(table, rayleigh_nm, field):
     """Acuity figures of an eye pair's receptors (both eyes together).
 
     Parameters
@@ -14,8 +14,9 @@ def acuity(table, rayleigh_nm, width_px=MAP_WIDTH_PX):
     table : ReceptorTable
     rayleigh_nm : dict of str to float
         Receptor class to the wavelength at which its Rayleigh limit is given, nm.
-    width_px : int
-        Width of the equirectangular map the field of view is measured on.
+    field : VisualField
+        What the table's receptors see (:func:`beeoptics.eye.fieldofview.visual_field`), on the map the
+        field of view is measured on: the caller's, who draws it too.
 
     Returns
     -------
@@ -38,6 +39,6 @@ def acuity(table, rayleigh_nm, width_px=MAP_WIDTH_PX):
     for receptor, lam in rayleigh_nm.items():
         for label, d in (("median", np.median(d_um)), ("largest", d_um.max())):
             row[f"rayleigh_deg_{receptor}_{label}_facet"] = rayleigh_limit_deg(lam, d)
-    field_extent = extent(visual_field(table.axis, table.side, drho, dphi, width_px))
+    field_extent = extent(field)
     row.update({k: field_extent[k] for k in ("right_sr", "left_sr", "binocular_sr", "total_fraction")})
     return row

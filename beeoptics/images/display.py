@@ -37,6 +37,12 @@ def map3(relative, display):
     return np.where(np.isnan(rgb) & ~np.isnan(relative).all(axis=-1, keepdims=True), 0.0, rgb)
 
 
+def display_words(receptor_set):
+    """map3's channels in words: "red UV, green G, blue B"."""
+    return ", ".join(f"{c} {' or '.join(receptor_set.classes[k] for k in ks)}"
+                     for c, ks in zip(("red", "green", "blue"), receptor_set.display))
+
+
 def encode(linear, scale=1.0):
     """Linear values to sRGB-encoded display values in [0, 1], ``scale`` at full brightness; NaN kept."""
     import colour  # imported where used, as in beeoptics.vision.human

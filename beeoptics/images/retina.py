@@ -97,31 +97,41 @@ def within_hull(points, queries):
     return inside
 
 
-def nearest_receptor(can, xy, sides):
+def within_eyes(can, xy, sides):
+    """Whether each pixel (h, 2w) lies within the convex hull of its panel's eye (:func:`within_hull`)."""
+    inside = np.zeros(can.side.shape, bool)
+    for s in (LEFT, RIGHT):
+        where = can.side == s
+        inside[where] = within_hull(xy[np.asarray(sides) == s], can.xy[where])
+    return inside
+
+
+def nearest_receptor(can, xy, sides, inside=None):
     """Index of the receptor each pixel shows (−1 outside its eye's convex hull): the Voronoi diagram of the
-    receptors in the retinal plane (Collins §4.3), to paint with :func:`beeoptics.images.fieldmaps.paint`."""
+    receptors in the retinal plane (Collins §4.3), to paint with :func:`beeoptics.images.fieldmaps.paint`.
+    ``inside``: :func:`within_eyes`, computed here if not given."""
+    inside = within_eyes(can, xy, sides) if inside is None else inside
     out = np.full(can.side.shape, -1)
     for s in (LEFT, RIGHT):
         mine = np.flatnonzero(np.asarray(sides) == s)
-        where = can.side == s
-        points = can.xy[where]
-        inside = within_hull(xy[mine], points)
-        block = np.full(len(points), -1)
-        block[inside] = mine[cKDTree(xy[mine]).query(points[inside])[1]]
-        out[where] = block
+        shown = (can.side == s) & inside
+        out[shown] = mine[cKDTree(xy[mine]).query(can.xy[shown])[1]]
     return out
 
 
-def density(can, xy, sides, values, normalise):
-    """Kernel estimate of receptor values, (h, w, c); divided by the receptor density if ``normalise``.
+def density(can, xy, sides, values, inside=None):
+    """Kernel estimates of receptor values, (h, w, c) each, NaN outside the eyes: the kernel's sums, and the
+    sums divided by the receptor density (the kernel-spread receptor count).
 
     The kernel's standard deviation is the median distance between
     neighbouring receptors of one eye in the retinal plane (the two eyes
-    share that plane, mirrored, so they are measured apart).
+    share that plane, mirrored, so they are measured apart). ``inside``:
+    :func:`within_eyes`, computed here if not given.
     """
+    inside = within_eyes(can, xy, sides) if inside is None else inside
     values = np.asarray(values, float).reshape(len(xy), -1)
     h, w = can.side.shape
-    out = np.full((h, w, values.shape[1]), np.nan)
+    raw, normalised = np.full((h, w, values.shape[1]), np.nan), np.full((h, w, values.shape[1]), np.nan)
     for s in (LEFT, RIGHT):
         mine = np.flatnonzero(np.asarray(sides) == s)
         sigma = np.median(cKDTree(xy[mine]).query(xy[mine], k=2)[0][:, 1]) / can.pixel_mm
@@ -132,12 +142,12 @@ def density(can, xy, sides, values, normalise):
         row = np.rint((can.xy[0, 0, 1] - xy[mine, 1]) / can.pixel_mm).astype(int)
         flat = row * len(cols) + col
         count = gaussian_filter(np.bincount(flat, minlength=h * len(cols)).reshape(h, -1).astype(float), sigma)
-        inside = within_hull(xy[mine], can.xy[:, cols].reshape(-1, 2)).reshape(h, -1)
         for k in range(values.shape[1]):
             sums = gaussian_filter(np.bincount(flat, values[mine, k], h * len(cols)).reshape(h, -1), sigma)
-            layer = np.divide(sums, count, out=np.full_like(sums, np.nan), where=count > 0) if normalise else sums
-            out[:, cols, k] = np.where(inside, layer, np.nan)
-    return out
+            raw[:, cols, k] = np.where(inside[:, cols], sums, np.nan)
+            normalised[:, cols, k] = np.where(inside[:, cols], np.divide(sums, count, out=np.full_like(sums, np.nan),
+                                                                         where=count > 0), np.nan)
+    return raw, normalised
 
 
 class Retina(NamedTuple):
@@ -169,14 +179,15 @@ def retinal_images(eye, table, relative, colours, srgb, classes, width_px):
     """
     xy = retinal_plane(eye, table.position, table.side)
     can = canvas(xy, width_px)
-    dens = density(can, xy, table.side, colours, normalise=False)
-    shows = nearest_receptor(can, xy, table.side)
+    inside = within_eyes(can, xy, table.side)
+    dens, normalised = density(can, xy, table.side, colours, inside)
+    shows = nearest_receptor(can, xy, table.side, inside)
     images = {
         "voronoi_map3": encode(paint(shows, colours)),
         # Nearest-receptor images copy values, so encoding before the Voronoi step is exact.
         "voronoi_map2": paint(shows, srgb),
         "density_map3": encode(dens, np.nanpercentile(dens, EXPOSURE_PERCENTILE)),
-        "density_map3_normalised": encode(density(can, xy, table.side, colours, normalise=True)),
+        "density_map3_normalised": encode(normalised),
     }
     channels = {name: np.clip(paint(shows, relative[:, k])[..., 0], 0.0, 1.0) for k, name in enumerate(classes)}
     return Retina(images, channels, shows, panel_extents(can), *in_eye_plane(eye.rotation))

@@ -9,6 +9,8 @@ and pandas as NaN, and which is read back here as NaN.
 """
 
 import csv
+import functools
+import os
 
 import numpy as np
 
@@ -48,7 +50,11 @@ def read_table(path, numeric=(), text=()):
     numeric, text : sequence of str
         Columns that must be present; ``numeric`` ones must hold numbers.
 
-    Empty fields of a column of numbers are NaN.
+    Empty fields of a column of numbers are NaN. A file read again while
+    unchanged (its inode, size and modification time) is parsed once: a
+    stage's functions each read the responses and receptors they need (an
+    eye's images job read its tables seven times). Each call returns arrays
+    of its own.
 
     Raises
     ------
@@ -57,6 +63,25 @@ def read_table(path, numeric=(), text=()):
         numeric column holds something else (naming its row and value).
     """
     note(path)
+    try:
+        stat = os.stat(path)
+    except FileNotFoundError:
+        raise InputError(path, "", "no such file") from None
+    columns = _parsed(path, stat.st_ino, stat.st_size, stat.st_mtime_ns)
+    for name in [*numeric, *text]:
+        if name not in columns:
+            raise InputError(path, name, "missing column")
+    for name in numeric:
+        if columns[name].dtype.kind not in "iuf":
+            row, value = next((k, v) for k, v in enumerate(columns[name].tolist(), 2) if not _is_number(v))
+            raise InputError(path, name, f"row {row}: {value!r} is not a number")
+    return {name: values.copy() for name, values in columns.items()}
+
+
+@functools.lru_cache(maxsize=8)
+def _parsed(path, inode, size, mtime_ns):
+    """The columns of the table at ``path``, parsed once while it keeps its inode, size and modification time
+    (nanoseconds; a file rewritten atomically is a new inode)."""
     try:
         # utf-8-sig: spreadsheets (Excel's "CSV UTF-8") begin the file with a byte-order mark, which
         # would otherwise become part of the first column's name.
@@ -72,16 +97,10 @@ def read_table(path, numeric=(), text=()):
     short = next((k for k, r in enumerate(body, 2) if len(r) != len(header)), None)
     if short is not None:
         raise InputError(path, f"row {short}", f"has {len(body[short - 2])} fields; the header has {len(header)}")
-    for name in [*numeric, *text]:
-        if name not in header:
-            raise InputError(path, name, "missing column")
-    columns = {}
-    for name, values in zip(header, zip(*body) if body else [()] * len(header)):
-        columns[name] = _parse(values, path, name, numeric=name in numeric)
-    return columns
+    return {name: _parse(values) for name, values in zip(header, zip(*body) if body else [()] * len(header))}
 
 
-def _parse(values, path, name, numeric):
+def _parse(values):
     try:
         return np.array([int(v) for v in values])
     except ValueError:
@@ -94,11 +113,7 @@ def _parse(values, path, name, numeric):
     try:
         return np.array([float(v) if v.strip() else np.nan for v in values])
     except ValueError:
-        pass
-    if numeric:
-        row, value = next((k, v) for k, v in enumerate(values, 2) if not _is_number(v))
-        raise InputError(path, name, f"row {row}: {value!r} is not a number")
-    return np.array(values)
+        return np.array(values)
 
 
 def _is_number(text):

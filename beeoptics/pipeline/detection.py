@@ -23,7 +23,6 @@ import numpy as np
 
 from beeoptics.api import catches as catches_of, load_eye, load_scene, look_cones
 from beeoptics.headframe import head_rotation
-from beeoptics.images import figures
 from beeoptics.io.table import read_table, write_table
 from beeoptics.io.errors import InputError
 from beeoptics.light.sampler import STREAMS
@@ -227,6 +226,8 @@ def summarise(approaches, outputs, *, scene=""):
     rule's verdicts each with its 95 % interval, the same percentile of the
     approaches' near and far ends (``_near_m``, ``_far_m``: :data:`FLAGS`).
     """
+    from beeoptics.images import figures  # imported where drawn: the survey's jobs need no matplotlib
+
     rows, tables = [], {}
     for eye, path in approaches.items():
         t = read_table(path, text=("species",))

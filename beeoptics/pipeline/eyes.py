@@ -20,7 +20,6 @@ from beeoptics.eye.given import build_given, given_right_eye, surface
 from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
 from beeoptics.eye.lattice import kernel_mean
 from beeoptics.eye.remesh import remesh, target_edge_mm
-from beeoptics.images import figures
 from beeoptics.io.atomic import atomic_path, write_json
 from beeoptics.io.errors import InputError
 from beeoptics.io.meshfile import read_mesh_normals, write_mesh
@@ -102,6 +101,8 @@ def eye_figures(eye_file, relaxation_npz, receptors_csv, quality_json, outputs):
     against the measured border for an eye compared with it (``published:
     field_model``), with the shares ``quality_json`` reports.
     """
+    from beeoptics.images import figures  # imported where drawn: matplotlib is half a second of each eye job
+
     eye = load_eye(eye_file)
     table = read_receptors(receptors_csv)
     figures.angular_sensitivities(table.delta_rho_deg, table.delta_phi_deg, outputs["acceptance"], eye.name)
@@ -156,6 +157,8 @@ def acuity_table(eyes, outputs, *, width_px=MAP_WIDTH_PX):
     eyes : dict of str to (path, path, path)
         Eye class to its eye.yaml, its receptor table and its quality.json.
     """
+    from beeoptics.images import figures  # as in eye_figures
+
     rows, fields_seen = [], {}
     for name, (eye_file, csv, quality_json) in eyes.items():
         eye, table = load_eye(eye_file), read_receptors(csv)
@@ -167,9 +170,9 @@ def acuity_table(eyes, outputs, *, width_px=MAP_WIDTH_PX):
                "eye_length_mm": quality["size"]["eye_length_mm"],
                "corneal_area_mm2": quality["size"]["corneal_area_mm2"],
                "field_fraction_published": eye.published.get("field_fraction", {}).get("value", np.nan)}
-        row.update(acuity(table, dict(zip(receptor_set.classes, peaks_nm(receptor_set))), width_px))
-        rows.append(row)
         fields_seen[name] = visual_field(table.axis, table.side, table.delta_rho_deg, table.delta_phi_deg, width_px)
+        row.update(acuity(table, dict(zip(receptor_set.classes, peaks_nm(receptor_set))), fields_seen[name]))
+        rows.append(row)
     keys = list(dict.fromkeys(k for r in rows for k in r))
     text = ("eye", "species")
     write_table(outputs["acuity"], {k: [r[k] for r in rows] if k in text else

@@ -14,8 +14,7 @@ import numpy as np
 
 from beeoptics.eye.fieldofview import visual_field
 from beeoptics.headframe import LEFT, eye_azimuth_elevation
-from beeoptics.images import figures
-from beeoptics.images.display import bee_colours, encode, map3
+from beeoptics.images.display import bee_colours, display_words, encode, map3
 from beeoptics.images.viewer import flight_viewer
 from beeoptics.images.fieldmaps import paint
 from beeoptics.api import View, catches as catches_of, human_srgb, human_view, load_eye, load_scene, look, looks
@@ -24,7 +23,6 @@ from beeoptics.io.imagefile import write_gif, write_mp4
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.io.validation import config_default
-from beeoptics.pipeline.images import display_words
 from beeoptics.spectra import grid
 from beeoptics.vision.detection import detect, local_background
 from beeoptics.vision.receptorset import DEFAULT_CURVES, lacking, ommatidium_types
@@ -129,6 +127,8 @@ def flight_products(receptors_csv, scene_file, frame_npzs, human_npzs, outputs, 
         The flower the flight approaches, as a disc: ``position_m`` (3,)
         of its centre, ``radius_m`` and ``normal`` (3,), the way it faces.
     """
+    from beeoptics.images import figures  # imported where drawn: the jobs tracing frames need no matplotlib
+
     eye = load_eye(receptors_csv, receptor_set=receptor_set)
     table, scene = eye.table, load_scene(scene_file, **spectral, geometry=False)
     wl = scene.wavelengths_nm
@@ -209,6 +209,8 @@ def flight_detection(receptors_csv, frame_npzs, outputs, *, spectral, receptor_s
     target : dict
         The flight's target (:func:`flight_products`).
     """
+    from beeoptics.images import figures  # as in flight_products
+
     wl = grid(**spectral)
     table = read_receptors(receptors_csv)
     absent = lacking(receptor_set, ommatidium_types(receptor_set, len(table.id)))

@@ -9,7 +9,7 @@ import numpy as np
 from beeoptics.eye.description import load_eye
 from beeoptics.eye.fieldofview import MAP_WIDTH_PX, visual_field
 from beeoptics.images import figures
-from beeoptics.images.display import bee_colours, encode, polarisation_colours
+from beeoptics.images.display import bee_colours, display_words, encode, polarisation_colours
 from beeoptics.images.fieldmaps import field_images, paint
 from beeoptics.pipeline.outputs import channel
 from beeoptics.images.retina import retinal_images as retina_images
@@ -71,12 +71,6 @@ def retinal_images(eye_file, receptors_csv, responses_csv, irradiance_npz, outpu
                       "catch ÷ white's catch" if image.ndim == 2 else None) for name, image in shown.items()],
                     retina.extents, retina.anterior, retina.dorsal)
     write_exr(outputs["exr"], np.nan_to_num(paint(retina.nearest, catches), nan=0.0), receptor_set.classes)
-
-
-def display_words(receptor_set):
-    """map3's channels in words: "red UV, green G, blue B"."""
-    return ", ".join(f"{c} {' or '.join(receptor_set.classes[k] for k in ks)}"
-                     for c, ks in zip(("red", "green", "blue"), receptor_set.display))
 
 
 def visual_field_maps(receptors_csv, responses_csv, irradiance_npz, human_png, outputs, *, receptor_set,

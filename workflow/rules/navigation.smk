@@ -90,7 +90,8 @@ rule navigation_idf:
         navigation=NAVIGATION,
     log:
         "results/logs/navigation/{scene}/{grid}/idf.log",
-    threads: 2
+    priority: AWAITED  # started as soon as its maps are, beside the other jobs, not left to run alone at the end
+    threads: 1  # so that it shares the cores with another job (its bits are the same for any threads)
     resources:
         mem_mb=4000,
         runtime=60,
