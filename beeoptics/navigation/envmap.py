@@ -38,8 +38,8 @@ at h = 0.48°, 40 % more than the 4π/h² of an equal-area grid (González
 for quarter turns.
 
 The rule. A map for an eye has s ≤ Δρ₂/:data:`SPACINGS_PER_DELTA_RHO`,
-Δρ₂ the :data:`DELTA_RHO_PERCENTILE` nd percentile of the eye's acceptance
-angles (full width at half maximum), s being the rings' spacing h; each map
+Δρ₂ the eye's acceptance angles (full width at half maximum) at percentile
+:data:`DELTA_RHO_PERCENTILE` (the 2nd), s being the rings' spacing h; each map
 direction accepts a Gaussian of Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` × s.
 Not the smallest Δρ: the bumblebees' (Δρ = Δφ receptor by receptor, Taylor
 et al. 2019's assumption) reach 0.18–0.27° at a few dozen facets of each
@@ -55,7 +55,9 @@ resampled as receptors of Δρ = 4 s, the narrowest the map resolves
 (:func:`resolved_delta_rho`): their catches are of a wider cone than their
 own, counted where the views are written (``catchment.csv``'s ``clamped``)
 and measured against directly traced ones in the README ("Views for
-navigation"). The map is thus the radiance blurred by Δρ_map, and a receptor resampled
+navigation").
+
+The map is thus the radiance blurred by Δρ_map, and a receptor resampled
 from it with its own Gaussian would see a Gaussian of √(Δρ² + Δρ_map²)
 (variances of Gaussians add): for s = Δρ₂/4 up to 12 % wider than its own
 (√(1 + ¼) = 1.118), which takes 20 % off the catch contrast of a target
@@ -304,14 +306,14 @@ def ring_counts(spacing_deg, heading_step_deg=HEADING_STEP_DEG):
 
 def map_spacing_deg(delta_rho_deg):
     """The rule's spacing, degrees, for receptors of acceptance angles ``delta_rho_deg`` (FWHM, degrees): at
-    most their :data:`DELTA_RHO_PERCENTILE` th percentile over :data:`SPACINGS_PER_DELTA_RHO`, and 180° over it
-    a whole number."""
+    most their value at percentile :data:`DELTA_RHO_PERCENTILE` over :data:`SPACINGS_PER_DELTA_RHO`, and 180°
+    over it a whole number."""
     return 180.0 / np.ceil(180.0 * SPACINGS_PER_DELTA_RHO / rule_delta_rho_deg(delta_rho_deg))
 
 
 def rule_delta_rho_deg(delta_rho_deg):
     """The Δρ, degrees, that sets the rule's spacing for receptors of ``delta_rho_deg``: their
-    :data:`DELTA_RHO_PERCENTILE` th percentile (linearly interpolated)."""
+    value at percentile :data:`DELTA_RHO_PERCENTILE` (linearly interpolated)."""
     return float(np.percentile(delta_rho_deg, DELTA_RHO_PERCENTILE))
 
 
@@ -383,7 +385,7 @@ def environment_map(scene, position_m, eyes, *, spacing_deg=None, heading_step_d
     rule = min(map_spacing_deg(e.table.delta_rho_deg) for e in eyes)
     if spacing_deg is not None and not 0.0 < spacing_deg <= rule:
         raise InputError("environment_map", "spacing_deg", f"{spacing_deg!r} is not above 0 and at most the "
-                         f"rule's {rule:.4g}° (the eyes' Δρ at their {DELTA_RHO_PERCENTILE:g}th percentile over "
+                         f"rule's {rule:.4g}° (the eyes' Δρ at percentile {DELTA_RHO_PERCENTILE:g} over "
                          f"{SPACINGS_PER_DELTA_RHO})")
     spacing = rule if spacing_deg is None else 180.0 / np.ceil(180.0 / spacing_deg)
     turn = 360.0 / heading_step_deg if heading_step_deg > 0.0 else 0.0
@@ -461,7 +463,7 @@ def resampling_matrix(env, axes, delta_rho_deg):
     rule = rule_delta_rho_deg(delta_rho) if len(delta_rho) else np.inf
     if rule < SPACINGS_PER_DELTA_RHO * env.spacing_deg * (1.0 - 1e-9):
         raise InputError(env.source, "spacing_deg", f"{env.spacing_deg:.3g}° is too coarse for receptors of Δρ "
-                         f"{rule:.3g}° at their {DELTA_RHO_PERCENTILE:g}th percentile: trace the map at most "
+                         f"{rule:.3g}° at percentile {DELTA_RHO_PERCENTILE:g}: trace the map at most "
                          f"Δρ/{SPACINGS_PER_DELTA_RHO} apart")
     grid = env.grid
     tree = cKDTree(env.grid.directions)
