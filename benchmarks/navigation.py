@@ -11,7 +11,7 @@ rounded to an even number of ``--spacing-m``, so 11 × 11 places at the
 defaults, the stage's grids having the reference in the middle) about the
 scene's own place, at its height (35 cm), each traced once as an environment
 map at the rule's spacing (:mod:`beeoptics.navigation.envmap`: the worker's
-smallest Δρ over four; ``--map-samples`` a direction, the configuration's
+Δρ at its 2nd percentile over four; ``--map-samples`` a direction, the configuration's
 ``navigation.map.samples`` by default, at the configuration's depth and
 seed, those of the direct views), and ``--headings`` views at each, evenly
 turned about the vertical (pitch and roll 0), resampled from its map by the

@@ -49,6 +49,21 @@ def test_a_horizon_resampled_is_the_receptors_own_gaussian_edge():
         envmap.resampling_matrix(env, axes, 3.0 * env.spacing_deg)
 
 
+def test_a_few_narrow_receptors_set_no_spacing_and_are_resampled_at_the_narrowest_the_map_resolves():
+    # An eye of 2° receptors with 1 % at 0.2° (as a bumblebee's lattice edge, its facet angles' artefacts): the
+    # rule's spacing is its 2nd percentile's 2° over four, 0.5°, not the least's 0.05° (21 million directions);
+    # the narrow ones are counted and resampled as receptors of 4 spacings, the narrowest the map resolves.
+    delta_rho = np.r_[np.full(990, 2.0), np.full(10, 0.2)]
+    assert envmap.map_spacing_deg(delta_rho) == 0.5
+    env, sky = horizon_map(0.5)
+    assert envmap.clamped(env, delta_rho).sum() == 10
+    # One narrow receptor among 2° ones about one axis across the horizon: its kernel is theirs.
+    axes = np.tile([[1.0, 0.0, 0.02]], (100, 1)) / np.hypot(1.0, 0.02)
+    weights = envmap.resampling_matrix(env, axes, np.r_[0.2, np.full(99, 2.0)])
+    assert weights.nnz > 0 and (weights[0] != weights[1]).nnz == 0
+    np.testing.assert_allclose(weights[0] @ sky, ndtr(np.arctan(0.02) / cone_sigma(2.0)), atol=0.001)
+
+
 @pytest.fixture(scope="module")
 def eye():
     tiny = beeoptics.load_eye(EYE)

@@ -31,19 +31,35 @@ one neighbour search, not 360. An equal-area grid without that symmetry
 (a Fibonacci lattice, González 2010; HEALPix, a dependency besides) needs
 the search at every heading, some seconds for the worker on this machine;
 the rings oversample the poles instead (directions closer than h along a
-ring where a ring's count is rounded up): for the worker 257,400 directions
-at h = 0.475°, 41 % more than the 4π/h² of an equal-area grid (González
+ring where a ring's count is rounded up): for the worker 250,920 directions
+at h = 0.48°, 40 % more than the 4π/h² of an equal-area grid (González
 2010, for the Fibonacci lattice), traced once. A cube map's texels span solid angles differing by
 3√3 = 5.2 between a face's corner and its centre, and has the symmetry only
 for quarter turns.
 
-The rule. A map for an eye has s ≤ Δρ_min/:data:`SPACINGS_PER_DELTA_RHO`,
-Δρ_min the eye's smallest acceptance angle (full width at half maximum), s
-being the rings' spacing h; each map direction accepts a Gaussian of
-Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` × s.
+The rule. A map for an eye has s ≤ Δρ₂/:data:`SPACINGS_PER_DELTA_RHO`,
+Δρ₂ the eye's acceptance angles (full width at half maximum) at percentile
+:data:`DELTA_RHO_PERCENTILE` (the 2nd), s being the rings' spacing h; each map
+direction accepts a Gaussian of Δρ_map = :data:`MAP_DELTA_RHO_SPACINGS` × s.
+Not the smallest Δρ: the bumblebees' (Δρ = Δφ receptor by receptor, Taylor
+et al. 2019's assumption) reach 0.18–0.27° at a few dozen facets of each
+eye, against medians of 1.48–1.57°, and by the smallest a map would be 9–21
+million directions. Those are the facet angles' artefacts at the lattice's
+edge, where a facet's neighbours lie on one side and the cornea's normals
+flatten: of each shipped Bombus eye's receptors below its 2nd percentile,
+92–98 % lie on the edge (their 12 nearest facets' centroid off them by over a
+quarter of their spacing, as 8–10 % of all facets are), 69 % for the
+smallest bee (BT_77973), against 0–1 % of the worker's, whose Δρ (Snyder's
+model) spans 1.90–2.57°. The receptors below 4 s (:func:`clamped`) are
+resampled as receptors of Δρ = 4 s, the narrowest the map resolves
+(:func:`resolved_delta_rho`): their catches are of a wider cone than their
+own, counted where the views are written (``catchment.csv``'s ``clamped``)
+and measured against directly traced ones in the README ("Views for
+navigation").
+
 The map is thus the radiance blurred by Δρ_map, and a receptor resampled
 from it with its own Gaussian would see a Gaussian of √(Δρ² + Δρ_map²)
-(variances of Gaussians add): for s = Δρ_min/4 up to 12 % wider than its own
+(variances of Gaussians add): for s = Δρ₂/4 up to 12 % wider than its own
 (√(1 + ¼) = 1.118), which takes 20 % off the catch contrast of a target
 smaller than Δρ (a Gaussian's peak falls as 1/Δρ²) and widens every edge by
 12 %. The resampling kernel is therefore narrowed to
@@ -131,8 +147,12 @@ from beeoptics.tracing import trace_cones
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import DEFAULT_CURVES, curves
 
-#: The grid's spacing is at most the eye's smallest Δρ over this (the rule above).
+#: The grid's spacing is at most the eye's Δρ at :data:`DELTA_RHO_PERCENTILE` over this (the rule above).
 SPACINGS_PER_DELTA_RHO = 4
+#: The percentile of an eye's Δρ that sets its map's spacing: the receptors below it are nearly all on the
+#: lattice's edge (the module's "rule"), and are resampled with their acceptance widened to the narrowest the
+#: map resolves, :data:`SPACINGS_PER_DELTA_RHO` spacings (:func:`resolved_delta_rho`).
+DELTA_RHO_PERCENTILE = 2.0
 #: Each map direction's acceptance angle (FWHM) in grid spacings: wide enough that the map is sampled well
 #: (its Gaussian's spectrum at the grid's frequency 1/s is exp(−(2π·2/2.355)²/2) < 10⁻⁶), narrow enough that
 #: the resampling kernel keeps √(1 − (2/4)²) = 87 % of the smallest receptor's width.
@@ -286,8 +306,28 @@ def ring_counts(spacing_deg, heading_step_deg=HEADING_STEP_DEG):
 
 def map_spacing_deg(delta_rho_deg):
     """The rule's spacing, degrees, for receptors of acceptance angles ``delta_rho_deg`` (FWHM, degrees): at
-    most their least over :data:`SPACINGS_PER_DELTA_RHO`, and 180° over it a whole number."""
-    return 180.0 / np.ceil(180.0 * SPACINGS_PER_DELTA_RHO / float(np.min(delta_rho_deg)))
+    most their value at percentile :data:`DELTA_RHO_PERCENTILE` over :data:`SPACINGS_PER_DELTA_RHO`, and 180°
+    over it a whole number."""
+    return 180.0 / np.ceil(180.0 * SPACINGS_PER_DELTA_RHO / rule_delta_rho_deg(delta_rho_deg))
+
+
+def rule_delta_rho_deg(delta_rho_deg):
+    """The Δρ, degrees, that sets the rule's spacing for receptors of ``delta_rho_deg``: their
+    value at percentile :data:`DELTA_RHO_PERCENTILE` (linearly interpolated)."""
+    return float(np.percentile(delta_rho_deg, DELTA_RHO_PERCENTILE))
+
+
+def resolved_delta_rho(env, delta_rho_deg):
+    """The acceptance angles, FWHM, degrees, that receptors of ``delta_rho_deg`` are resampled with: their own,
+    or the narrowest the map resolves, :data:`SPACINGS_PER_DELTA_RHO` spacings, where theirs is narrower (the
+    module's "rule": the receptors :func:`clamped`)."""
+    return np.maximum(np.asarray(delta_rho_deg, float), SPACINGS_PER_DELTA_RHO * env.spacing_deg)
+
+
+def clamped(env, delta_rho_deg):
+    """Which receptors of ``delta_rho_deg`` (FWHM, degrees) are narrower than the map resolves, and so resampled
+    wider than their own acceptance (:func:`resolved_delta_rho`): a boolean array of their shape."""
+    return np.asarray(delta_rho_deg, float) < SPACINGS_PER_DELTA_RHO * env.spacing_deg * (1.0 - 1e-9)
 
 
 def turn_order(grid, heading_deg):
@@ -312,8 +352,8 @@ def environment_map(scene, position_m, eyes, *, spacing_deg=None, heading_step_d
     position_m : array_like (3,)
         The place, m (the head's centre).
     eyes : beeoptics.Eye or sequence of beeoptics.Eye
-        The eyes it is for: their smallest Δρ sets the spacing by the rule
-        (:func:`map_spacing_deg`), and the map keeps its catches and their
+        The eyes it is for: the finest of their Δρ's 2nd percentiles sets the
+        spacing by the rule (:func:`map_spacing_deg`), and the map keeps its catches and their
         standard errors in each of their distinct receptor sets.
     spacing_deg : float, optional
         A finer spacing than the rule's, degrees, made finer still where
@@ -345,7 +385,8 @@ def environment_map(scene, position_m, eyes, *, spacing_deg=None, heading_step_d
     rule = min(map_spacing_deg(e.table.delta_rho_deg) for e in eyes)
     if spacing_deg is not None and not 0.0 < spacing_deg <= rule:
         raise InputError("environment_map", "spacing_deg", f"{spacing_deg!r} is not above 0 and at most the "
-                         f"rule's {rule:.4g}° (the eyes' smallest Δρ over {SPACINGS_PER_DELTA_RHO})")
+                         f"rule's {rule:.4g}° (the eyes' Δρ at percentile {DELTA_RHO_PERCENTILE:g} over "
+                         f"{SPACINGS_PER_DELTA_RHO})")
     spacing = rule if spacing_deg is None else 180.0 / np.ceil(180.0 / spacing_deg)
     turn = 360.0 / heading_step_deg if heading_step_deg > 0.0 else 0.0
     if turn < 1.0 or abs(turn - round(turn)) > 1e-9:
@@ -365,7 +406,7 @@ def environment_map(scene, position_m, eyes, *, spacing_deg=None, heading_step_d
     sets = {e.receptor_set.name: curves(e.receptor_set, wl, sensitivities) for e in eyes}
     sens = np.hstack(list(sets.values()))
     # Each direction draws a random stream of its own, so that a map is the same for any chunking: at most the
-    # tracer's streams (a spacing under 0.05°: the finest bumblebee receptors' Δρ by the rule).
+    # tracer's streams (a spacing under 0.05°: the finest bumblebee receptors' Δρ over four).
     n = int(ring_counts(spacing, heading_step_deg)[1].sum())
     if n > STREAMS:
         raise InputError("environment_map", "spacing_deg", f"{spacing:.3g}° apart makes {n:,} directions, more than "
@@ -419,9 +460,11 @@ def resampling_matrix(env, axes, delta_rho_deg):
     scipy.sparse.csr_matrix
     """
     delta_rho = np.broadcast_to(np.asarray(delta_rho_deg, float), (len(axes),))
-    if delta_rho.min(initial=np.inf) < SPACINGS_PER_DELTA_RHO * env.spacing_deg * (1.0 - 1e-9):
+    rule = rule_delta_rho_deg(delta_rho) if len(delta_rho) else np.inf
+    if rule < SPACINGS_PER_DELTA_RHO * env.spacing_deg * (1.0 - 1e-9):
         raise InputError(env.source, "spacing_deg", f"{env.spacing_deg:.3g}° is too coarse for receptors of Δρ "
-                         f"{delta_rho.min():.3g}°: trace the map at most Δρ/{SPACINGS_PER_DELTA_RHO} apart")
+                         f"{rule:.3g}° at percentile {DELTA_RHO_PERCENTILE:g}: trace the map at most "
+                         f"Δρ/{SPACINGS_PER_DELTA_RHO} apart")
     grid = env.grid
     tree = cKDTree(env.grid.directions)
     sigma = kernel_sigma(env, delta_rho)
@@ -455,8 +498,8 @@ def resampling_matrix(env, axes, delta_rho_deg):
 
 def kernel_sigma(env, delta_rho_deg):
     """The resampling kernel's σ, radians, for receptors of ``delta_rho_deg`` (FWHM, degrees): narrowed by the
-    map's own blur (the module's rule)."""
-    return np.sqrt(cone_sigma(delta_rho_deg) ** 2 - cone_sigma(env.delta_rho_deg) ** 2)
+    map's own blur, those narrower than the map resolves widened to it first (the module's rule)."""
+    return np.sqrt(cone_sigma(resolved_delta_rho(env, delta_rho_deg)) ** 2 - cone_sigma(env.delta_rho_deg) ** 2)
 
 
 def parallax_matrix(env, kernel, axes, delta_rho_deg, offsets_m):

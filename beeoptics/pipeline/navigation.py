@@ -27,7 +27,8 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.navigation import catchment, idf
-from beeoptics.navigation.envmap import HEADING_STEP_DEG, environment_map, eye_weights, map_catches, read_map, write_map
+from beeoptics.navigation.envmap import (HEADING_STEP_DEG, SPACINGS_PER_DELTA_RHO, clamped, environment_map,
+                                        eye_weights, map_catches, read_map, write_map)
 from beeoptics.pipeline.logs import log
 from beeoptics.vision.receptorset import receptor_set_of
 
@@ -84,7 +85,7 @@ def trace_maps(scene_file, receptor_files, eye_files, folder, *, places, navigat
     The scene and the eyes are read once for all of them (a job's start and
     the meadow's reading cost several maps' tracing). Each map is traced for
     all the eyes at once: at the finest of the rule's spacings for them
-    (their smallest Δρ over four), with the catches of each of their
+    (each one's Δρ at its 2nd percentile over four), with the catches of each of their
     receptor sets; their spectral radiance only where ``navigation.map.radiance``
     asks for it.
     """
@@ -111,6 +112,9 @@ def eye_differences(files, eye, reference, navigation, threads=None):
     -------
     ridf : dict of str to ndarray (places, headings)
     valleys : dict of str to (heading_deg, depth, width_deg), each (places,)
+    clamped : int
+        The eye's receptors narrower than the maps resolve, resampled at the narrowest they do
+        (:func:`beeoptics.navigation.envmap.clamped`).
     """
     step, heading = navigation["heading_step_deg"], navigation["heading_deg"]
     reference_map = read_map(files[reference])
@@ -128,7 +132,11 @@ def eye_differences(files, eye, reference, navigation, threads=None):
         for s in names:
             ridf[s].append(differences[s])
     ridf = {s: np.array(v) for s, v in ridf.items()}
-    return ridf, {s: idf.valley(v, step) for s, v in ridf.items()}
+    narrow = int(clamped(reference_map, eye.table.delta_rho_deg).sum())
+    log.info("%d of the eye's %d receptors are narrower than the maps' %.3g° spacing resolves (Δρ under %.3g°): "
+             "resampled at that Δρ", narrow, len(eye.table.id), reference_map.spacing_deg,
+             SPACINGS_PER_DELTA_RHO * reference_map.spacing_deg)
+    return ridf, {s: idf.valley(v, step) for s, v in ridf.items()}, narrow
 
 
 def turned(env, eye, weights, step, threads):
@@ -153,7 +161,7 @@ def image_differences(map_folders, receptor_files, eye_files, eye_names, outputs
     eyes = eyes_of(receptor_files, eye_files)
     check(navigation, dict(zip(eye_names, (e.receptor_set for e in eyes))))
     for name, eye in zip(eye_names, eyes):
-        ridf, valleys = eye_differences(files, eye, reference, navigation, threads)
+        ridf, valleys, narrow = eye_differences(files, eye, reference, navigation, threads)
         for s, r in ridf.items():
             headings = np.arange(r.shape[1]) * step
             ridf_rows.append({"eye": np.full(r.size, name), "signal": np.full(r.size, s),
@@ -172,7 +180,8 @@ def image_differences(map_folders, receptor_files, eye_files, eye_names, outputs
             place_rows.append({"eye": np.full(n, name), "signal": np.full(n, s), "place": np.arange(n), "x_m": x,
                                "y_m": y, "heading_of_min_deg": best, "depth": depth, "width_deg": width})
             catch_rows.append({"eye": [name], "signal": [s], "places": [int(inside.sum())], "area_m2": [area],
-                               "along_m": [along], "across_m": [across]})
+                               "along_m": [along], "across_m": [across], "receptors": [len(eye.table.id)],
+                               "clamped": [narrow]})
             panels.append((f"{name}: {s}", x.reshape(side, side), y.reshape(side, side), field, inside,
                            catchment.descent(field)))
     for key, rows in (("ridf", ridf_rows), ("tidf", tidf_rows), ("places", place_rows), ("catchment", catch_rows)):
