@@ -23,7 +23,6 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import NamedTuple
 
 import numpy as np
 
@@ -677,8 +676,9 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
         raise InputError("look", "part", f"share {part!r} of {parts!r}: parts is a whole number from 1, part one "
                          "from 0 below it")
     bounds = np.linspace(0, len(eye.table.id), parts + 1).round().astype(int)
+    # The errors are made when the view is first asked for them: a flight's frames keep the radiance alone.
     return _traced_view(eye, scene, placed, settings, config["colour"], bounds[part], bounds[part + 1],
-                        progress=progress, polarised=polarised, target=target)
+                        progress=progress, polarised=polarised, target=target, deferred=True)
 
 
 def _traced_view(eye, scene, placed, settings, colour, first, last, *, progress=None, polarised=False, target=None,
@@ -848,7 +848,7 @@ def catches(radiance, wavelengths_nm, receptor_set, *, sensitivities=None, class
     return quantum_catches(radiance, sens, wavelengths_nm)
 
 
-class Cones(NamedTuple):
+class Cones:
     """Acceptance cones traced through a scene (:func:`look_cones`).
 
     Attributes
@@ -868,14 +868,30 @@ class Cones(NamedTuple):
     counts : dict
         The rays traced (``cast``, ``shadow``) and the tracing's wall and CPU seconds (``seconds``,
         ``cpu_seconds``).
+
+    ``radiance_se`` and ``replicate_catches`` are made of the trace's replicates when first asked for (a
+    compass reads the radiance alone, a detection the replicates' catches alone), as a look's are.
     """
 
-    radiance: np.ndarray
-    radiance_se: np.ndarray
-    samples: np.ndarray
-    replicate_catches: np.ndarray | None
-    cover: np.ndarray | None
-    counts: dict
+    def __init__(self, radiance, samples, cover, counts, replicates, omega, sensitivities):
+        self.radiance, self.samples, self.cover, self.counts = radiance, samples, cover, counts
+        self._replicates, self._omega, self._sensitivities = replicates, omega, sensitivities
+        self._errors = None
+
+    def _made(self):
+        if self._errors is None:
+            n_wavelengths = self.radiance.shape[-1]
+            self._errors = replicate_errors(self._replicates, self._omega, self._sensitivities, n_wavelengths)
+            self._replicates = None
+        return self._errors
+
+    @property
+    def radiance_se(self):
+        return self._made()["radiance_se"]
+
+    @property
+    def replicate_catches(self):
+        return self._made().get("catches")
 
 
 def look_cones(scene, origins_m, axes, delta_rho_deg, *, streams=None, receptor_set=None, classes=None,
@@ -943,9 +959,9 @@ def look_cones(scene, origins_m, axes, delta_rho_deg, *, streams=None, receptor_
     settings = _settings(config, threads, receptor_set)
     errors = {}
     traced = trace_cones(scene.scene, origins_m, axes, drho, streams, 0, n, settings, len(wl), progress,
-                         scene.raycasting, dorsal, target, sens, errors)
-    return Cones(traced[0], errors["radiance_se"], errors["samples"], errors.get("catches"),
-                 traced[2] if target is not None else None, traced[1])
+                         scene.raycasting, dorsal, target, sens, errors, deferred=True)
+    return Cones(traced[0], errors["samples"], traced[2] if target is not None else None, traced[1],
+                 errors["replicates"], acceptance_solid_angle(drho), sens)
 
 
 def cone_rays(eye, scene, samples, *, seed=1, receptors=slice(None)):

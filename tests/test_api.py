@@ -4,12 +4,15 @@ import numpy as np
 import pytest
 
 import beeoptics
-from beeoptics import cli
+import beeoptics.tracing
+from beeoptics import api, cli
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.light.scene import load_scene
 from beeoptics.pipeline import eyes
+from beeoptics.replicates import standard_error
+from beeoptics.vision.receptorset import curves
 from conftest import ROOT
 
 DATA = ROOT / "tests" / "data"
@@ -82,6 +85,29 @@ def test_a_look_gives_the_bytes_render_writes(built, eye, view, tmp_path):
 def test_the_same_look_on_other_threads_is_the_same_view(eye, scene, view):
     again = beeoptics.look(eye, scene, **FAST, seed=3, threads=1)
     assert again.table().equals(view.table())
+
+
+def test_a_look_and_cones_make_their_errors_when_first_asked_for_them_as_the_trace_made_them(eye, scene, view,
+                                                                                              monkeypatch):
+    made = []
+    monkeypatch.setattr(beeoptics.tracing, "standard_error", lambda *a, **k: made.append(1) or standard_error(*a, **k))
+    lazy = beeoptics.look(eye, scene, **FAST, seed=3, threads=1)
+    t, r = eye.table, scene.scene.eye_rotation
+    cones = beeoptics.look_cones(scene, t.position * 1e-3 @ r.T + scene.scene.eye_position, t.axis @ r.T,
+                                 t.delta_rho_deg, streams=t.id, receptor_set=eye.receptor_set, **FAST, seed=3)
+    np.testing.assert_array_equal(lazy.radiance, view.radiance)
+    np.testing.assert_array_equal(cones.radiance, view.radiance)
+    assert not made  # a flight's frames and a compass, which keep the radiance alone, never make them
+    # Made at once, as a trace asked for them makes them.
+    errors, wl = {}, scene.wavelengths_nm
+    settings = api._settings(api._config(scene, FAST["samples"], FAST["depth"], 3, None, None, None, None, "look"),
+                             1, eye.receptor_set)
+    beeoptics.tracing.trace_receptors(scene.scene, t, 0, len(t.id), settings, len(wl), rs=scene.raycasting,
+                                      errors=errors, sensitivities=(wl, curves(eye.receptor_set, wl, "species")))
+    assert made
+    for traced in (lazy, cones):
+        np.testing.assert_array_equal(traced.radiance_se, errors["radiance_se"])
+        np.testing.assert_array_equal(traced.replicate_catches, errors["catches"])
 
 
 def test_turning_the_head_turns_every_axis_about_the_vertical(eye, scene, view):

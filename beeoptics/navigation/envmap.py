@@ -143,7 +143,7 @@ from beeoptics.light.sampler import STREAMS
 from beeoptics.light.sensors import cone_sigma
 from beeoptics.raycasting import first_hits
 from beeoptics.replicates import standard_error
-from beeoptics.tracing import trace_cones
+from beeoptics.tracing import cone_catches, trace_cones
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import DEFAULT_CURVES, curves
 
@@ -419,13 +419,15 @@ def environment_map(scene, position_m, eyes, *, spacing_deg=None, heading_step_d
     for first in range(0, n, CHUNK):
         last = min(first + CHUNK, n)
         errors = {}
+        # The replicates kept as traced: of their errors the map keeps the catches' alone, not the radiance's.
         chunk = trace_cones(scene.scene, origins, axes, delta_rho, streams, first, last, settings, len(wl),
-                            rs=scene.raycasting, sensitivities=(wl, sens), errors=errors)[0]
+                            rs=scene.raycasting, sensitivities=(wl, sens), errors=errors, deferred=True)[0]
         # The catches from the chunk's radiance before it goes (unless asked for): a few classes, not w wavelengths.
         q.append(quantum_catches(chunk, sens, wl))
         spectra += [chunk] if radiance else []
         # The replicates' catches are over the direction's acceptance solid angle: per steradian here.
-        q_se.append(standard_error(errors["catches"]) / acceptance_solid_angle(delta_rho[first:last])[:, None])
+        omega = acceptance_solid_angle(delta_rho[first:last])
+        q_se.append(standard_error(cone_catches(errors["replicates"], omega, (wl, sens))) / omega[:, None])
     # One ray a direction from the place: the distance to the first surface, whose reciprocal turns a facet's
     # kernel (sky: none, no parallax).
     distance = first_hits(scene.raycasting, np.column_stack([origins, axes]).astype(np.float32))["t_hit"]

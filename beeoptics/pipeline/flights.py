@@ -68,13 +68,15 @@ def trace_frames(receptors_csv, scene_file, flight_file, outputs, *, first, coun
     scene = load_scene(scene_file, **spectral)
     sphere = None if target is None else (np.asarray(target["position_m"], float), float(target["radius_m"]))
     poses = _poses(flight_file, fps, first, count)
-    views = [look(eye, scene, **p.eye(), target=sphere, trace=trace, threads=threads, sensitivities=receptor_curves)
-             for p in poses]
+    # Of each frame's view only what the file keeps: a view holds its trace's replicates (eight times its
+    # radiance) until asked for its errors, which a flight's frames never are.
+    kept = [(v.radiance, np.zeros(len(eye.table.id)) if v.cover is None else v.cover, v.distance_m)
+            for v in (look(eye, scene, **p.eye(), target=sphere, trace=trace, threads=threads,
+                           sensitivities=receptor_curves) for p in poses)]
+    radiance, cover, depth = (np.array(column) for column in zip(*kept))
     with atomic_path(outputs["frames"]) as tmp:
-        np.savez(tmp, id=eye.table.id, frame=first + np.arange(len(poses)),
-                 radiance=np.array([v.radiance for v in views]),
-                 cover=np.array([np.zeros(len(eye.table.id)) if v.cover is None else v.cover for v in views]),
-                 depth_m=np.array([v.distance_m for v in views]), time_s=np.array([p.time for p in poses]),
+        np.savez(tmp, id=eye.table.id, frame=first + np.arange(len(poses)), radiance=radiance, cover=cover,
+                 depth_m=depth, time_s=np.array([p.time for p in poses]),
                  position_m=np.array([p.position for p in poses]), rotation=np.array([p.rotation for p in poses]),
                  velocity_m_s=np.array([p.velocity for p in poses]),
                  angular_velocity_rad_s=np.array([p.angular_velocity for p in poses]))

@@ -58,8 +58,10 @@ wildcard_constraints:
 TRACING_THREADS = 1
 
 #: Priorities: of the jobs ready to run, Snakemake starts those of higher priority first. Jobs that begin long
-#: chains (an eye's, a meadow's) come first, then those whose products other jobs wait for, so that a run's last
-#: minute is not one job on one core while the others idle.
+#: chains (an eye's, a meadow's, and a trace's and its gathering, which the eye's images wait for) come first, then
+#: those whose products other jobs wait for, so that a run's last minute is not one job on one core while the
+#: others idle: the images' chains, last in the run before, ended with a trace, its gathering and an image job
+#: alone some 12 core-seconds idle, where short jobs now fill the end.
 STARTS_CHAINS, AWAITED = 2, 1
 
 # The trace settings jobs trace with. `parts` only splits a trace into jobs (its results are

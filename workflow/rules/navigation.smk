@@ -63,6 +63,7 @@ rule navigation_map:
         navigation=lambda w: {k: NAVIGATION[k] for k in ("reference_m", "height_m", "map")}
         | {"grids": {w.grid: NAVIGATION["grids"][w.grid]}},
         spectral=config["spectral"],
+    priority: AWAITED
     log:
         "results/logs/navigation/{scene}/{grid}/maps/{chunk}.log",
     threads: TRACING_THREADS

@@ -15,6 +15,7 @@ rule trace:
         trace=TRACE,
         receptor_curves=config["colour"]["sensitivities"],
         light={},
+    priority: STARTS_CHAINS
     log:
         "results/logs/trace/{eye}/{scene}/{part}_of_{parts}.log",
     threads: TRACING_THREADS
@@ -41,6 +42,7 @@ rule gather:
         background=config["colour"]["background"],
         receptor_curves=config["colour"]["sensitivities"],
         light={},
+    priority: STARTS_CHAINS
     log:
         "results/logs/gather/{eye}/{scene}.log",
     resources:
