@@ -44,8 +44,8 @@ from beeoptics.pipeline.outputs import channel, retinal_images as retinal_output
 from beeoptics.raycasting import first_hits
 from beeoptics.sky.dome import white_radiance
 from beeoptics.spectra import grid
-from beeoptics.tracing import (class_catches, human_srgb, render_human, replicate_errors, respond, trace_cones,
-                               trace_receptors)
+from beeoptics.tracing import (class_catches, cone_catches, human_srgb, render_human, replicate_errors, respond,
+                               trace_cones, trace_receptors)
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import (DEFAULT_CURVES, DEFAULT_SET, ReceptorSet, curves, lacking, load_receptor_set,
                                           ommatidium_names, ommatidium_types, receptor_set_of)
@@ -844,7 +844,7 @@ def catches(radiance, wavelengths_nm, receptor_set, *, sensitivities=None, class
     radiance = np.asarray(radiance)
     sens = _curves(receptor_set, wavelengths_nm, sensitivities, classes, "catches")
     if delta_rho_deg is not None:
-        radiance = radiance * acceptance_solid_angle(delta_rho_deg).reshape(-1, *[1] * (radiance.ndim - 1))
+        return cone_catches(radiance, acceptance_solid_angle(delta_rho_deg), (wavelengths_nm, sens))
     return quantum_catches(radiance, sens, wavelengths_nm)
 
 
@@ -887,10 +887,12 @@ class Cones:
 
     @property
     def radiance_se(self):
+        """The radiance's standard error over the trace's replicates, as ``radiance``."""
         return self._made()["radiance_se"]
 
     @property
     def replicate_catches(self):
+        """Each replicate's catch of each class, (cones, replicates, classes); None without a receptor set."""
         return self._made().get("catches")
 
 

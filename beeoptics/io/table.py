@@ -19,6 +19,10 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.provenance import note
 
 
+#: The characters for which csv quotes a field: its delimiter, its quote and those of its line ends.
+QUOTED = frozenset(',"\r\n')
+
+
 def write_table(path, columns, digits=9):
     """Write a dict of equal-length columns to a CSV file, atomically, floats to ``digits`` significant digits."""
     names = list(columns)
@@ -40,9 +44,6 @@ def write_table(path, columns, digits=9):
         else:
             w.writerows(zip(*text))
 
-
-#: The characters for which csv quotes a field: its delimiter, its quote and those of its line ends.
-QUOTED = frozenset(',"\r\n')
 
 
 def _format(column, digits):

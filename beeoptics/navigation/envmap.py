@@ -263,6 +263,13 @@ class EnvironmentMap(NamedTuple):
         """Each map direction's acceptance angle, FWHM, degrees."""
         return MAP_DELTA_RHO_SPACINGS * self.spacing_deg
 
+    @property
+    def resolved_deg(self):
+        """The narrowest acceptance angle, FWHM, degrees, the map resolves: :data:`SPACINGS_PER_DELTA_RHO`
+        spacings (the module's "rule"), less a rounding's worth, so that a receptor of exactly that width counts
+        as resolved."""
+        return SPACINGS_PER_DELTA_RHO * self.spacing_deg * (1.0 - 1e-9)
+
 
 @lru_cache(maxsize=4)
 def ring_grid(spacing_deg, heading_step_deg=HEADING_STEP_DEG):
@@ -327,7 +334,7 @@ def resolved_delta_rho(env, delta_rho_deg):
 def clamped(env, delta_rho_deg):
     """Which receptors of ``delta_rho_deg`` (FWHM, degrees) are narrower than the map resolves, and so resampled
     wider than their own acceptance (:func:`resolved_delta_rho`): a boolean array of their shape."""
-    return np.asarray(delta_rho_deg, float) < SPACINGS_PER_DELTA_RHO * env.spacing_deg * (1.0 - 1e-9)
+    return np.asarray(delta_rho_deg, float) < env.resolved_deg
 
 
 def turn_order(grid, heading_deg):
@@ -463,7 +470,7 @@ def resampling_matrix(env, axes, delta_rho_deg):
     """
     delta_rho = np.broadcast_to(np.asarray(delta_rho_deg, float), (len(axes),))
     rule = rule_delta_rho_deg(delta_rho) if len(delta_rho) else np.inf
-    if rule < SPACINGS_PER_DELTA_RHO * env.spacing_deg * (1.0 - 1e-9):
+    if rule < env.resolved_deg:
         raise InputError(env.source, "spacing_deg", f"{env.spacing_deg:.3g}° is too coarse for receptors of Δρ "
                          f"{rule:.3g}° at percentile {DELTA_RHO_PERCENTILE:g}: trace the map at most "
                          f"Δρ/{SPACINGS_PER_DELTA_RHO} apart")

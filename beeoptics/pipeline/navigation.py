@@ -27,8 +27,8 @@ from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import read_receptors
 from beeoptics.io.table import write_table
 from beeoptics.navigation import catchment, idf
-from beeoptics.navigation.envmap import (HEADING_STEP_DEG, SPACINGS_PER_DELTA_RHO, clamped, environment_map,
-                                        eye_weights, map_catches, read_map, write_map)
+from beeoptics.navigation.envmap import (HEADING_STEP_DEG, clamped, environment_map, eye_weights, map_catches,
+                                        read_map, write_map)
 from beeoptics.pipeline.logs import log
 from beeoptics.vision.receptorset import receptor_set_of
 
@@ -135,7 +135,7 @@ def eye_differences(files, eye, reference, navigation, threads=None):
     narrow = int(clamped(reference_map, eye.table.delta_rho_deg).sum())
     log.info("%d of the eye's %d receptors are narrower than the maps' %.3g° spacing resolves (Δρ under %.3g°): "
              "resampled at that Δρ", narrow, len(eye.table.id), reference_map.spacing_deg,
-             SPACINGS_PER_DELTA_RHO * reference_map.spacing_deg)
+             reference_map.resolved_deg)
     return ridf, {s: idf.valley(v, step) for s, v in ridf.items()}, narrow
 
 
