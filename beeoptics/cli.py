@@ -24,7 +24,7 @@ from tqdm import tqdm
 from beeoptics import __version__
 from beeoptics.eye.receptors import FORMATS, read_receptor_file, receptor_format
 from beeoptics.headframe import SIDES, eye_azimuth_elevation
-from beeoptics.io.atomic import Terminated, sigterm_as_interrupt, stop_behind
+from beeoptics.io.atomic import Terminated, raise_stop, sigterm_as_interrupt, stop_behind
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import MEASURES, read_receptors, rows_of, write_receptors
 from beeoptics.io.validation import (CONFIG_SCHEMA, check_background, config_default, load_yaml, validate,
@@ -122,6 +122,7 @@ def staged(outdir, names):
         raise InputError(outdir, "", f"cannot write there ({e.strerror})") from None
     try:
         yield scratch
+        raise_stop()
         for name in names:
             os.replace(scratch / name, outdir / name)
     finally:

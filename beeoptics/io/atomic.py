@@ -12,6 +12,7 @@ killed outright (SIGKILL) leaves them, for the next run to remove.
 import json
 import os
 import signal
+import sys
 import tempfile
 import threading
 from contextlib import contextmanager
@@ -25,6 +26,10 @@ class Terminated(KeyboardInterrupt):
     status = 128 + signal.SIGTERM
 
 
+#: The stops (Ctrl-C, SIGTERM) signalled in :func:`sigterm_as_interrupt`'s block, for :func:`raise_stop`.
+_STOPS = []
+
+
 @contextmanager
 def sigterm_as_interrupt():
     """Within the block, SIGTERM raises :class:`Terminated` (a KeyboardInterrupt) in the main thread.
@@ -32,23 +37,51 @@ def sigterm_as_interrupt():
     Python's default for SIGTERM ends the process at once, before any
     ``finally`` can remove a temporary file or a ``.partial-`` folder. Like
     Ctrl-C it takes effect between two Python steps: a native call (a trace
-    batch) finishes first. Outside the main thread, where no signal handler
-    can be set, the block runs unchanged.
+    batch) finishes first. The step it lands in may not let it through: a
+    finaliser (``__del__``, a weakref's callback, which the garbage collector
+    runs at any step) prints it as unraisable and carries on, and so does a
+    library that catches everything (a stop 1 s into a render was lost so
+    twice in 150, silently, and the render committed its outputs). Each stop
+    is therefore also kept, and raised again before the next commit
+    (:func:`raise_stop`) and at the block's end; a finaliser's is not
+    printed. Outside the main thread, where no signal handler can be set,
+    the block runs unchanged.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
-    def stop(signum, frame):
+    def terminate(signum, frame):
         # A scheduler may send SIGTERM again (to each process of a job): the clean-up is not stopped in turn.
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        raise Terminated
+        _STOPS.append(Terminated())
+        raise _STOPS[-1]
 
-    previous = signal.signal(signal.SIGTERM, stop)
+    def interrupt(signum, frame):
+        _STOPS.append(KeyboardInterrupt())
+        raise _STOPS[-1]
+
+    def unraisable(info):
+        if not any(info.exc_value is stop for stop in _STOPS):
+            hook(info)
+
+    previous = signal.signal(signal.SIGTERM, terminate), signal.signal(signal.SIGINT, interrupt)
+    hook, sys.unraisablehook = sys.unraisablehook, unraisable
     try:
         yield
+        raise_stop()
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        signal.signal(signal.SIGTERM, previous[0])
+        signal.signal(signal.SIGINT, previous[1])
+        sys.unraisablehook = hook
+        _STOPS.clear()
+
+
+def raise_stop():
+    """Raise the first Ctrl-C or SIGTERM signalled in :func:`sigterm_as_interrupt`'s block, if one was: called
+    before an output is committed, so that a stopped run commits nothing even where the stop was swallowed."""
+    if _STOPS:
+        raise _STOPS[0]
 
 
 def stop_behind(error):
@@ -86,6 +119,7 @@ def atomic_path(path):
     os.chmod(tmp, 0o666 & ~umask)
     try:
         yield Path(tmp)
+        raise_stop()
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
