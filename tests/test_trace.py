@@ -175,6 +175,20 @@ def test_bundles_of_any_sample_count_are_traced_in_batches_no_larger_than_asked(
     assert sum(len(b.bundle) * b.samples for b in first) == 1024
 
 
+def test_bundles_of_many_sample_counts_are_traced_in_few_calls():
+    """An adaptive trace's receptors each take their own samples: batched as listed, 100 sizes made a call
+    of a few bundles for every size in every batch; ordered by size, a batch holds one or two."""
+    from beeoptics.light.batching import _batches
+
+    samples = np.arange(2000) % 100 + 8
+    batches = list(_batches(0, samples, range(8), 1 << 14))
+    calls = sum(len(batch) for batch in batches)
+    assert calls <= len(np.unique(samples)) + len(batches)
+    # Every replicate of every bundle once, whatever the order.
+    units = np.concatenate([np.repeat(b.bundle, b.samples) for batch in batches for b in batch])
+    assert np.array_equal(np.bincount(units), 8 * samples)
+
+
 def test_a_trace_in_blocks_is_bit_identical_however_it_is_batched_and_threaded(tmp_path):
     """8,800 samples a receptor: eight replicates each in blocks of 1,024 and 76, batched two ways."""
     first, second = traced_fan(tmp_path, 6, 4, 8800, 2, 20, [(1024, 1), (4096, 2)])
