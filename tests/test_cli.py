@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 from beeoptics import cli
-from beeoptics.io.atomic import Terminated
+from beeoptics.io.atomic import Terminated, sigterm_as_interrupt
 from beeoptics.io.errors import InputError
 from beeoptics.io.interchange import read_receptor_ply
 from beeoptics.io.receptortable import COLUMNS, read_receptors
@@ -444,6 +444,20 @@ def test_a_sigterm_swallowed_where_it_landed_still_stops_the_render(built, tmp_p
     assert call(capsys, *render_args(built / "receptors.csv", FLOWER, out)) == (128 + signal.SIGTERM, "",
                                                                               "beeoptics: terminated\n")
     assert not out.exists()
+
+
+def test_a_run_started_with_ctrl_c_ignored_keeps_it_ignored():
+    # A shell's background job (`make test &`, nohup) inherits SIGINT ignored: a Ctrl-C at the terminal is
+    # not for it, and the stops kept for a commit (a handler of their own) must not make it so.
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with sigterm_as_interrupt():
+            assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.1)
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_a_stop_during_a_compiled_modules_import_is_reported_as_the_stop(monkeypatch, capsys):

@@ -65,14 +65,19 @@ def sigterm_as_interrupt():
         if not any(info.exc_value is stop for stop in _STOPS):
             hook(info)
 
-    previous = signal.signal(signal.SIGTERM, terminate), signal.signal(signal.SIGINT, interrupt)
+    # Ctrl-C only where Python would raise it: a run a shell started in the background (`&`, nohup)
+    # inherits SIGINT ignored, so that a Ctrl-C at the terminal does not stop it, and keeps it so.
+    catch = {signal.SIGTERM: terminate}
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        catch[signal.SIGINT] = interrupt
+    previous = {signum: signal.signal(signum, handler) for signum, handler in catch.items()}
     hook, sys.unraisablehook = sys.unraisablehook, unraisable
     try:
         yield
         raise_stop()
     finally:
-        signal.signal(signal.SIGTERM, previous[0])
-        signal.signal(signal.SIGINT, previous[1])
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
         sys.unraisablehook = hook
         _STOPS.clear()
 
