@@ -39,12 +39,12 @@ def sigterm_as_interrupt():
     Ctrl-C it takes effect between two Python steps: a native call (a trace
     batch) finishes first. The step it lands in may not let it through: a
     finaliser (``__del__``, a weakref's callback, which the garbage collector
-    runs at any step) prints it as unraisable and carries on, and so does a
-    library that catches everything (a stop 1 s into a render was lost so
-    twice in 150, silently, and the render committed its outputs). Each stop
-    is therefore also kept, and raised again before the next commit
-    (:func:`raise_stop`) and at the block's end; a finaliser's is not
-    printed. Outside the main thread, where no signal handler can be set,
+    runs at any step) prints it as unraisable and carries on, and a library
+    that catches everything swallows it (stops in a render's first seconds
+    were lost, silently, twice in 150, and the render committed its
+    outputs). Each stop is therefore also kept, and raised again before the
+    next commit (:func:`raise_stop`) and at the block's end; a finaliser's
+    is not printed. Outside the main thread, where no signal handler can be set,
     the block runs unchanged.
     """
     if threading.current_thread() is not threading.main_thread():
