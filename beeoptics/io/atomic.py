@@ -44,8 +44,8 @@ def sigterm_as_interrupt():
     were lost, silently, twice in 150, and the render committed its
     outputs). Each stop is therefore also kept, and raised again before the
     next commit (:func:`raise_stop`) and at the block's end; a finaliser's
-    is not printed. Outside the main thread, where no signal handler can be set,
-    the block runs unchanged.
+    is not printed. Outside the main thread, where no signal handler can be
+    set, the block runs unchanged.
     """
     if threading.current_thread() is not threading.main_thread():
         yield

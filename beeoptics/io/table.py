@@ -45,7 +45,6 @@ def write_table(path, columns, digits=9):
             w.writerows(zip(*text))
 
 
-
 def _format(column, digits):
     if column.dtype.kind in "iu":
         return column.astype(str)
