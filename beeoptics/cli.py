@@ -55,10 +55,12 @@ SETTINGS = {
     ],
     "render": [
         ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone, at most "
-         "65,536 (where the noise is well below the measured reflectances' spread; see the config schema)"),
+         "65,536 (where the noise is well below the measured reflectances' spread; see the config schema): that "
+         "many each, unless --precision is given too"),
         ("--precision", "trace.precision.target", lambda text: None if text == "fixed" else text,
-         "the relative standard error asked of each receptor's catches: a number (0.03: 3 %%), 'auto' (a quarter "
-         "of each class's Weber fraction, where the receptor set gives them) or 'fixed' (--samples each)"),
+         "the precision asked of each receptor's catches: a number (0.03: a relative standard error of 3 %%), "
+         "'auto' (a quarter of a just-noticeable difference in the receptor set's colour and achromatic "
+         "distances, where it gives their receptor noise) or 'fixed' (--samples each)"),
         ("--max-samples", "trace.precision.max_samples", int, "the most samples a receptor takes to reach --precision"),
         ("--depth", "trace.depth", int, "scattering events per path; 1 is direct light only"),
         ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),
@@ -77,6 +79,8 @@ SETTINGS = {
     ],
     "daylight": GRID,
 }
+#: An option's value when it was not given.
+ASKED_NOT = object()
 #: The formats in words, for the help: ".csv, .eye, .ply, .gltf or .glb".
 FORMAT_LIST = f"{', '.join(list(FORMATS)[:-1])} or {list(FORMATS)[-1]}"
 
@@ -86,8 +90,13 @@ def settings(args):
     config = {}
     for option, key, _, _ in SETTINGS[args.command]:
         *parents, leaf = key.split(".")
-        reduce(lambda node, part: node.setdefault(part, {}), parents, config)[leaf] = \
-            getattr(args, option[2:].replace("-", "_"))
+        value = getattr(args, option[2:].replace("-", "_"))
+        if value is not ASKED_NOT:
+            reduce(lambda node, part: node.setdefault(part, {}), parents, config)[leaf] = value
+    # A count of samples asked for is traced, fixed, unless a precision is asked for too (the API's rule).
+    trace = config.get("trace", {})
+    if "samples_per_receptor" in trace and "target" not in trace.get("precision", {}):
+        trace.setdefault("precision", {})["target"] = None
     try:
         return validate_config(config, CONFIG_SCHEMA, source="command line", folders=False)
     except InputError as e:
@@ -601,8 +610,10 @@ def parser():
     p.set_defaults(run=daylight)
     for command, options in SETTINGS.items():
         for option, key, kind, text in options:
-            sub.choices[command].add_argument(option, type=kind, default=config_default(key),
-                                              help=f"{text} (default: %(default)s)")
+            # Not given, an option leaves its key to the schema's default (shown), so that the settings can
+            # tell what was asked for.
+            sub.choices[command].add_argument(option, type=kind, default=ASKED_NOT,
+                                              help=f"{text} (default: {config_default(key)})")
 
     p = sub.add_parser("meadow", help="generate a meadow's mesh (and its flowers) from its meadow.yaml",
                        description=meadow.__doc__)
