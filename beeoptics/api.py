@@ -573,10 +573,8 @@ def _config(scene, samples, depth, seed, precision, background, sensitivities, t
                                                              ("seed", seed)) if v is not None}},
              "colour": {k: v for k, v in (("background", background), ("sensitivities", sensitivities))
                         if v is not None}}
-    # A count of samples asked for is traced, fixed, unless a precision is asked for too.
-    if precision is not None or samples is not None:
-        target = None if precision in (None, "fixed") else precision
-        given["trace"]["precision"] = {**given["trace"].get("precision", {}), "target": target}
+    if precision is not None:
+        given["trace"]["precision"] = {**given["trace"].get("precision", {}), "target": precision}
     config = validate_config(given, CONFIG_SCHEMA, source=source, folders=False)
     # Refused now rather than after the trace.
     check_background(scene.path, config["colour"]["background"], source, "background")
@@ -649,14 +647,12 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
         Scattering events per path; 1 is direct light only.
     seed : int, optional
         The random seed: the same seed and settings give the same view.
-    precision : float, "auto" or "fixed", optional
+    precision : float or "auto", optional
         The relative standard error asked of every catch (0.03: 3 %) or
-        ``"auto"``, a quarter of a just-noticeable difference of the receptor
+        ``"auto"``, a quarter of a just-noticeable difference in the receptor
         set's colour and achromatic distances
         (:func:`beeoptics.vision.uncertainty.noise_forms`), the samples then
-        chosen per receptor (*Every number with its error*); ``"fixed"``:
-        ``samples`` each. By default the configuration's (``auto``), or
-        fixed where ``samples`` is given.
+        chosen per receptor (*Every number with its error*); None: ``samples`` each.
     background : str, optional
         The von Kries adapting background: ``"scene"``, or a material of the scene.
     sensitivities : str, optional

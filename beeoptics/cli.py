@@ -55,8 +55,7 @@ SETTINGS = {
     ],
     "render": [
         ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone, at most "
-         "65,536 (where the noise is well below the measured reflectances' spread; see the config schema): that "
-         "many each, unless --precision is given too"),
+         "65,536 (where the noise is well below the measured reflectances' spread; see the config schema)"),
         ("--precision", "trace.precision.target", lambda text: None if text == "fixed" else text,
          "the precision asked of each receptor's catches: a number (0.03: a relative standard error of 3 %%), "
          "'auto' (a quarter of a just-noticeable difference in the receptor set's colour and achromatic "
@@ -79,8 +78,6 @@ SETTINGS = {
     ],
     "daylight": GRID,
 }
-#: An option's value when it was not given.
-ASKED_NOT = object()
 #: The formats in words, for the help: ".csv, .eye, .ply, .gltf or .glb".
 FORMAT_LIST = f"{', '.join(list(FORMATS)[:-1])} or {list(FORMATS)[-1]}"
 
@@ -90,13 +87,8 @@ def settings(args):
     config = {}
     for option, key, _, _ in SETTINGS[args.command]:
         *parents, leaf = key.split(".")
-        value = getattr(args, option[2:].replace("-", "_"))
-        if value is not ASKED_NOT:
-            reduce(lambda node, part: node.setdefault(part, {}), parents, config)[leaf] = value
-    # A count of samples asked for is traced, fixed, unless a precision is asked for too (the API's rule).
-    trace = config.get("trace", {})
-    if "samples_per_receptor" in trace and "target" not in trace.get("precision", {}):
-        trace.setdefault("precision", {})["target"] = None
+        reduce(lambda node, part: node.setdefault(part, {}), parents, config)[leaf] = \
+            getattr(args, option[2:].replace("-", "_"))
     try:
         return validate_config(config, CONFIG_SCHEMA, source="command line", folders=False)
     except InputError as e:
@@ -610,10 +602,8 @@ def parser():
     p.set_defaults(run=daylight)
     for command, options in SETTINGS.items():
         for option, key, kind, text in options:
-            # Not given, an option leaves its key to the schema's default (shown), so that the settings can
-            # tell what was asked for.
-            sub.choices[command].add_argument(option, type=kind, default=ASKED_NOT,
-                                              help=f"{text} (default: {config_default(key)})")
+            sub.choices[command].add_argument(option, type=kind, default=config_default(key),
+                                              help=f"{text} (default: %(default)s)")
 
     p = sub.add_parser("meadow", help="generate a meadow's mesh (and its flowers) from its meadow.yaml",
                        description=meadow.__doc__)

@@ -195,13 +195,14 @@ def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
     assert refused.value.field == field
 
 
-def test_a_look_traces_to_the_animal_s_precision_unless_a_count_of_samples_is_asked_for(eye, scene):
-    """The configuration's default precision is the animal's (``auto``): each receptor's samples chosen from
-    its pilot, after the pilot's 64. A count of samples asked for alone is traced so, every receptor alike;
-    with a precision beside it, the precision decides; ``"fixed"`` asks the configuration's samples."""
-    default = beeoptics.look(eye, scene, depth=1, seed=3).samples
-    assert np.ptp(default) > 0 and default.min() >= 64
+
+def test_a_look_traces_its_samples_or_to_the_precision_asked(eye, scene):
+    """By default each receptor takes the configuration's samples; asked a precision (the animal's, ``auto``,
+    or a relative standard error), each takes its own, after a pilot of 64, whatever the samples given."""
     np.testing.assert_array_equal(beeoptics.look(eye, scene, samples=16, depth=1, seed=3).samples, 16)
-    asked = beeoptics.look(eye, scene, samples=16, precision=0.2, depth=1, seed=3).samples
-    assert asked.min() >= 64 and not np.array_equal(asked, default)
-    np.testing.assert_array_equal(beeoptics.look(eye, scene, precision="fixed", depth=1, seed=3).samples, 256)
+    np.testing.assert_array_equal(beeoptics.look(eye, scene, depth=1, seed=3).samples, 256)
+    animal = beeoptics.look(eye, scene, precision="auto", depth=1, seed=3).samples
+    asked = beeoptics.look(eye, scene, samples=16, precision=0.05, depth=1, seed=3).samples
+    for samples in (animal, asked):
+        assert np.ptp(samples) > 0 and samples.min() >= 64
+    assert not np.array_equal(animal, asked)

@@ -561,15 +561,3 @@ def test_an_output_folder_that_cannot_be_written_is_named(built, tmp_path, capsy
     # The cause in words, without Python's "[Errno 17]".
     assert code == 1 and err.strip() == f"beeoptics: error: {blocker}: cannot write there (a file, not a folder)"
 
-
-@pytest.mark.parametrize("options, target", [
-    ([], "auto"),  # the configuration's default: the animal's precision
-    (["--samples", "16"], None),  # a count asked for alone: that many, fixed
-    (["--samples", "16", "--precision", "0.05"], 0.05),
-    (["--precision", "fixed"], None),
-])
-def test_render_asks_the_precision_given_or_the_samples_given_alone(options, target):
-    from beeoptics.cli import parser, settings
-
-    args = parser().parse_args(["render", "eye.csv", "scene.yaml", "-o", "out", *options])
-    assert settings(args)["trace"]["precision"]["target"] == target
