@@ -12,14 +12,19 @@ Lemieux 2002).
 
 Adaptive sampling (``trace.precision``) is Stein's two-stage procedure
 (Stein 1945): a pilot of K replicates of m₀ samples estimates each cone's
-relative standard error r₀; the root mean square r of the r₀ of the cone's
-neighbourhood (itself and its nearest on the eye, :func:`neighbourhoods`)
-fixes its samples per replicate, m = m₀ (r/target)² inflated by a
-chi-square quantile (:data:`PROBABILITY`), clipped to the bounds asked;
+errors, the covariance C of its classes' relative errors. What is asked
+is a set of quadratic forms F of them, each to stay at most 1: a relative
+standard error t of every class (C_cc/t², :func:`class_forms`), or the
+receptor-noise-limited distances an error moves, chromatic and
+achromatic (``auto``: :func:`beeoptics.vision.uncertainty.noise_forms`).
+The mean e² of a form's tr(F C) over the cone's neighbourhood (itself and
+its nearest on the eye, :func:`neighbourhoods`), the largest of the forms',
+fixes its samples per replicate, m = m₀ e² inflated by a chi-square
+quantile (:data:`PROBABILITY`), clipped to the bounds asked;
 then K fresh replicates of m samples each (replicates K … 2K − 1, whose
 random numbers none of the pilot's share) give the estimate and its
 error, and the pilots are set aside. Pooling, as renderers filter their
-error estimates over neighbouring pixels before deciding samples, gives r
+error estimates over neighbouring pixels before deciding samples, gives e²
 (K − 1) degrees of freedom per cone pooled rather than K − 1, and lets a
 neighbour's pilot that met a rare bright blade speak for a cone whose own
 pilot missed it. Because m is fixed before any of the estimate's samples
@@ -159,17 +164,12 @@ def adaptive_samples(pilot, white, precision, near):
     """
     k = pilot.shape[1]
     m0 = precision.min_samples // k
-    forms = precision.forms
-    if forms.shape[-1] != pilot.shape[2]:
-        # Forms of a set whose classes these are not (a flat-sensitivity catch): its error is one common to
-        # all the set's classes, ε·1, for which tr(F C) is ε² 1ᵀF1.
-        forms = forms.sum(axis=(1, 2))[:, None, None]
     mean = pilot.mean(axis=1)
     scale = np.maximum(mean, precision.floor * white)[:, None, :]
     with np.errstate(divide="ignore", invalid="ignore"):
         relative = np.nan_to_num(np.where(scale > 0.0, (pilot - mean[:, None, :]) / scale, 0.0))
     covariance = np.einsum("nka,nkb->nab", relative, relative) / ((k - 1) * k)
-    shortfall = np.einsum("fab,nab->nf", forms, covariance)
+    shortfall = np.einsum("fab,nab->nf", precision.forms, covariance)
     dof = (k - 1) * near.shape[1]
     m = np.ceil(m0 * dof / chdtri(dof, PROBABILITY) * shortfall[near].mean(axis=1).max(axis=1))
     return np.clip(m, m0, precision.max_samples // k).astype(np.int64)

@@ -76,6 +76,7 @@ def section_trace(section, keys=("samples_per_receptor",)):
     return {**TRACE, **{k: section[k] for k in keys},
             "precision": {**TRACE["precision"], "target": section["precision"]}}
 
+
 #: What a folder holds for people, not for the stages that read it: its READMEs, and a scene's flights
 #: (which the flight rules read as their own input).
 NOT_READ = ("README.md", "flights")
