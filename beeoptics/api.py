@@ -49,6 +49,7 @@ from beeoptics.tracing import (class_catches, cone_catches, human_srgb, render_h
 from beeoptics.vision.catches import quantum_catches
 from beeoptics.vision.receptorset import (DEFAULT_CURVES, DEFAULT_SET, ReceptorSet, curves, lacking, load_receptor_set,
                                           ommatidium_names, ommatidium_types, receptor_set_of)
+from beeoptics.vision.uncertainty import noise_forms
 
 log = logging.getLogger("beeoptics")
 
@@ -580,10 +581,16 @@ def _config(scene, samples, depth, seed, precision, background, sensitivities, t
     return config
 
 
-def _settings(config, threads, receptor_set):
-    """How a config's checked ``trace`` section traces receptors of ``receptor_set`` on ``threads`` threads
-    (all cores where None): :class:`beeoptics.light.batching.TraceSettings`."""
-    return TraceSettings.from_config(config["trace"], threads or os.cpu_count(), receptor_set=receptor_set)
+def _settings(config, threads, receptor_set, classes=None):
+    """How a config's checked ``trace`` section traces receptors of ``receptor_set`` (of its ``classes``, all
+    where None; without a set, a flat receptor's catch) on ``threads`` threads (all cores where None):
+    :class:`beeoptics.light.batching.TraceSettings`."""
+    if receptor_set is None:
+        return TraceSettings.from_config(config["trace"], threads or os.cpu_count(), classes=1)
+    kept = [receptor_set.classes.index(c) for c in (receptor_set.classes if classes is None else classes)]
+    noise = noise_forms(receptor_set)
+    return TraceSettings.from_config(config["trace"], threads or os.cpu_count(), classes=len(kept),
+                                     noise=None if noise is None else noise[:, kept][:, :, kept])
 
 
 def _placed(scene, pose):
@@ -641,9 +648,11 @@ def look(eye, scene, *, position_m=None, heading_deg=None, pitch_deg=None, roll_
     seed : int, optional
         The random seed: the same seed and settings give the same view.
     precision : float or "auto", optional
-        The relative standard error asked of every catch (0.03: 3 %), the
-        samples then chosen per receptor (*Every number with its error*);
-        None: ``samples`` each.
+        The relative standard error asked of every catch (0.03: 3 %) or
+        ``"auto"``, a quarter of a just-noticeable difference in the receptor
+        set's colour and achromatic distances
+        (:func:`beeoptics.vision.uncertainty.noise_forms`), the samples then
+        chosen per receptor (*Every number with its error*); None: ``samples`` each.
     background : str, optional
         The von Kries adapting background: ``"scene"``, or a material of the scene.
     sensitivities : str, optional
@@ -958,7 +967,7 @@ def look_cones(scene, origins_m, axes, delta_rho_deg, *, streams=None, receptor_
     wl = scene.wavelengths_nm
     sens = None if receptor_set is None else (wl, _curves(receptor_set, wl, config["colour"]["sensitivities"],
                                                           classes, "look_cones"))
-    settings = _settings(config, threads, receptor_set)
+    settings = _settings(config, threads, receptor_set, classes)
     errors = {}
     traced = trace_cones(scene.scene, origins_m, axes, drho, streams, 0, n, settings, len(wl), progress,
                          scene.raycasting, dorsal, target, sens, errors, deferred=True)

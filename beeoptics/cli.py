@@ -57,8 +57,9 @@ SETTINGS = {
         ("--samples", "trace.samples_per_receptor", int, "rays per receptor, drawn from its acceptance cone, at most "
          "65,536 (where the noise is well below the measured reflectances' spread; see the config schema)"),
         ("--precision", "trace.precision.target", lambda text: None if text == "fixed" else text,
-         "the relative standard error asked of each receptor's catches: a number (0.03: 3 %%), 'auto' (a quarter "
-         "of each class's Weber fraction, where the receptor set gives them) or 'fixed' (--samples each)"),
+         "the precision asked of each receptor's catches: a number (0.03: a relative standard error of 3 %%), "
+         "'auto' (a quarter of a just-noticeable difference in the receptor set's colour and achromatic "
+         "distances, where it gives their receptor noise) or 'fixed' (--samples each)"),
         ("--max-samples", "trace.precision.max_samples", int, "the most samples a receptor takes to reach --precision"),
         ("--depth", "trace.depth", int, "scattering events per path; 1 is direct light only"),
         ("--seed", "trace.seed", int, "random seed: the same seed and options give identical files"),

@@ -58,8 +58,10 @@ def trace_receptors(scene, table, first, last, settings, n_wavelengths, progress
         log.warning("%.0f%% of the receptors whose axis meets a surface meet its back face (%d of %d): the eye "
                     "may sit below the ground or inside a closed mesh; the scene's eye.position_m places it",
                     100.0 * back / met, back, met)
-    log.info("tracing receptors %d to %d: %d samples each, depth %d, on %d threads", first, last, settings.samples,
-             settings.depth, settings.threads)
+    each = (f"{settings.samples} samples each" if settings.precision is None else
+            f"samples to the precision asked, after a pilot of {settings.precision.min_samples}")
+    log.info("tracing receptors %d to %d: %s, depth %d, on %d threads", first, last, each, settings.depth,
+             settings.threads)
     # Each receptor draws the random numbers of its id, so that it is traced alike in any table that holds it.
     out = trace_cones(scene, origins, axes, table.delta_rho_deg, np.asarray(table.id, np.int64), first, last,
                       settings, n_wavelengths, progress, rs, scene.eye_rotation[:, 2] if polarised else None, target,
@@ -169,9 +171,9 @@ def trace_cones(scene, origins, axes, delta_rho_deg, streams, first, last, setti
         samples = adaptive_samples(cone_catches(pilot[..., :n_wavelengths], omega[cones], sensitivities), white,
                                    precision, rows.reshape(near.shape))
         replicates = trace_bundles(trace, first, last, settings, columns, samples, range(k, 2 * k), progress)
-        log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
-                 k * samples.min(initial=0), k * samples.max(initial=0), k * samples.mean() if len(samples) else 0,
-                 k * m)
+        if len(samples):
+            log.info("adaptive sampling: %d to %d samples a cone, %.0f on average, after a pilot of %d",
+                     k * samples.min(), k * samples.max(), k * samples.mean(), k * m)
     radiance = replicates.mean(axis=1)
     cover = None
     if target is not None:

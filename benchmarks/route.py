@@ -73,7 +73,8 @@ def main(argv=None):
     load_s = time.perf_counter() - start
     # The views' settings as the workflow gives them (workflow/rules/flights.smk).
     trace = {**{k: v for k, v in config["trace"].items() if k != "parts"},
-             **{k: views[k] for k in ("samples_per_receptor", "depth")}}
+             **{k: views[k] for k in ("samples_per_receptor", "depth")},
+             "precision": {**config["trace"]["precision"], "target": views["precision"]}}
     receptor_set = receptor_set_of(ROOT / "eyes" / args.eye / "eye.yaml")
     fps = 10.0
     with tempfile.TemporaryDirectory() as tmp:

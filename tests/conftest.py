@@ -150,7 +150,8 @@ def workdir(tmp_path_factory):
         "eyes": ["tiny"], "scenes": ["open", "flower", "generated"],
         "eyes_dir": str(work / "eyes"), "scenes_dir": str(work / "scenes"),
         "spectral": {"start_nm": 300, "end_nm": 700, "step_nm": 10},
-        "trace": {"samples_per_receptor": 16, "depth": 2, "seed": 3},
+        # The animal's precision, so that the stages are run adaptive; the sections' own samples, fixed.
+        "trace": {"samples_per_receptor": 16, "depth": 2, "seed": 3, "precision": {"target": "auto"}},
         "images": {"width_px": 64, "visual_field_width_px": 180},
         "sweeps": {"demo": {"eyes": ["tiny"], "scenes": ["flower"], "delta_rho_deg": [1.5, 4.0],
                             "sun_elevation_deg": [20, 70]}},

@@ -193,3 +193,16 @@ def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
     with pytest.raises(InputError) as refused:
         call(eye, scene)
     assert refused.value.field == field
+
+
+
+def test_a_look_traces_its_samples_or_to_the_precision_asked(eye, scene):
+    """By default each receptor takes the configuration's samples; asked a precision (the animal's, ``auto``,
+    or a relative standard error), each takes its own, after a pilot of 64, whatever the samples given."""
+    np.testing.assert_array_equal(beeoptics.look(eye, scene, samples=16, depth=1, seed=3).samples, 16)
+    np.testing.assert_array_equal(beeoptics.look(eye, scene, depth=1, seed=3).samples, 256)
+    animal = beeoptics.look(eye, scene, precision="auto", depth=1, seed=3).samples
+    asked = beeoptics.look(eye, scene, samples=16, precision=0.05, depth=1, seed=3).samples
+    for samples in (animal, asked):
+        assert np.ptp(samples) > 0 and samples.min() >= 64
+    assert not np.array_equal(animal, asked)

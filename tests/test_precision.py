@@ -5,7 +5,7 @@ import pytest
 from scipy import stats
 
 from beeoptics.light.batching import TraceSettings
-from beeoptics.light.precision import Precision
+from beeoptics.light.precision import Precision, adaptive_samples, class_forms
 from beeoptics.replicates import REPLICATES, T95, standard_error
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.light.sensors import cone_samples, cone_sigma
@@ -151,7 +151,8 @@ def test_adaptive_sampling_is_unbiased_where_a_stopping_rule_is_not(lamp, wavele
     axes = off_the_lamp(n, 1.65, np.random.default_rng(7))
     origins, drho, ids = np.zeros((n, 3)), np.full(n, 2.6), np.arange(n)
     flat = (wavelengths, np.ones((len(wavelengths), 1)))
-    precision = Precision(0.2, 0.0, 64, 2048)
+    target = 0.2
+    precision = Precision(class_forms(target, 1), 0.0, 64, 2048)
 
     def replicates(settings):
         """Each receptor's replicate catches (n, K) of a flat receptor, and its samples."""
@@ -172,7 +173,7 @@ def test_adaptive_sampling_is_unbiased_where_a_stopping_rule_is_not(lamp, wavele
         for round_ in range(rounds):
             kept = np.hstack([kept, replicates(TraceSettings(64, 1, 1000 * (seed + 1) + round_, 1 << 17))[0]])
             mean = kept.mean(axis=1)
-            now = ~done & ((standard_error(kept) <= precision.target * mean) | (round_ == rounds - 1))
+            now = ~done & ((standard_error(kept) <= target * mean) | (round_ == rounds - 1))
             estimate[now], done = mean[now], done | now
         stopped.append(estimate)
     fixed, adaptive, stopped = np.array(fixed), np.array(adaptive), np.array(stopped)
@@ -199,7 +200,8 @@ def test_pooling_the_pilots_of_a_neighbourhood_meets_the_target_where_a_cone_s_o
     n = 48
     axes = off_the_lamp(n, 1.65, np.random.default_rng(9))
     flat = (wavelengths, np.ones((len(wavelengths), 1)))
-    settings = TraceSettings(256, 1, 51, 1 << 17, precision=Precision(0.2, 0.0, 64, 4096))
+    target = 0.2
+    settings = TraceSettings(256, 1, 51, 1 << 17, precision=Precision(class_forms(target, 1), 0.0, 64, 4096))
 
     def ring_error():
         """The relative standard deviation of the ring's estimates."""
@@ -209,27 +211,55 @@ def test_pooling_the_pilots_of_a_neighbourhood_meets_the_target_where_a_cone_s_o
         q = errors["catches"][..., 0].mean(axis=1)
         return q.std(ddof=1) / q.mean()
 
-    assert ring_error() < 1.3 * settings.precision.target
+    assert ring_error() < 1.3 * target
     monkeypatch.setattr(beeoptics.light.precision, "NEIGHBOURHOOD", 1)  # each cone's own pilot alone
-    assert ring_error() > 2.0 * settings.precision.target
+    assert ring_error() > 2.0 * target
 
 
-def test_a_precision_asks_for_the_noise_of_the_receptor_set_and_refuses_a_pilot_above_the_maximum():
+def test_auto_holds_the_tracer_s_error_to_a_quarter_jnd_of_the_colour_and_of_the_achromatic_distance():
+    """``auto`` asks of a catch's error what the receptor-noise-limited distances feel of it: an error common
+    to the three classes (a cone's samples meeting more or less of a sunlit blade) moves no colour, and
+    is held to a quarter of the green receptor's Weber fraction, 3 %, not to a quarter of blue's, 1.5 %; an
+    error of the blue catch alone moves colour, by √(M_BB) JND per unit of log catch."""
     from beeoptics.io.errors import InputError
     from beeoptics.io.validation import config_default
+    from beeoptics.vision.colourspace import rnl_distance, rnl_metric
     from beeoptics.vision.receptorset import load_receptor_set
+    from beeoptics.vision.uncertainty import noise_forms
 
     trace = config_default("trace")
-    bee = TraceSettings.from_config({**trace, "precision": {"target": "auto"}}, receptor_set=load_receptor_set())
-    # A quarter of the honey bee's Weber fractions (Vorobyev et al. 2001).
-    np.testing.assert_allclose(bee.precision.target, [0.0325, 0.015, 0.03])
+    bee_set = load_receptor_set()
+    bee = TraceSettings.from_config({**trace, "precision": {"target": "auto"}}, classes=3, noise=noise_forms(bee_set))
+    weber = np.array([0.13, 0.06, 0.12])  # UV, B, G (Vorobyev et al. 2001)
+    np.testing.assert_array_equal(bee_set.weber, weber)
+    # The metric is the distance's: ΔS² = Δfᵀ M Δf.
+    df = np.log([1.3, 0.8, 1.1])
+    assert np.isclose(df @ rnl_metric(weber) @ df, rnl_distance(np.exp(df), np.ones(3), weber) ** 2)
+
+    k, m0 = REPLICATES, bee.precision.min_samples // REPLICATES
+    se = 0.05  # each receptor's relative standard error of the pilot's mean, in the classes it errs in
+    signs = np.resize([1.0, -1.0], k)  # replicates at ± d: sd(ddof=1)/√K = d √(K/(K − 1))/√K
+    d = se * np.sqrt(k - 1)
+    q = np.array([2.0, 3.0, 5.0])
+    common = q * (1.0 + d * signs[:, None])  # (K, 3): one error in all three classes
+    blue = q * (1.0 + d * signs[:, None] * np.array([0.0, 1.0, 0.0]))
+    pilot = np.stack([common, blue])
+    dof = k - 1
+    inflation = dof / stats.chi2.ppf(1.0 - 0.9, dof)
+    got = adaptive_samples(pilot, np.ones((2, 3)), bee.precision, np.array([[0], [1]]))
+    quarter_jnd = 0.25
+    want = np.ceil(m0 * inflation * np.array([(se / (quarter_jnd * weber[2])) ** 2,
+                                              rnl_metric(weber)[1, 1] * (se / quarter_jnd) ** 2]))
+    np.testing.assert_array_equal(got, want)
+    # A set without receptor noise traces its fixed samples; a number asks it of every class.
     fly = load_receptor_set("drosophila_melanogaster")
-    assert TraceSettings.from_config({**trace, "precision": {"target": "auto"}}, receptor_set=fly).precision is None
-    asked = TraceSettings.from_config({**trace, "precision": {"target": 0.05}}, receptor_set=fly)
-    assert asked.precision.target == 0.05
+    assert TraceSettings.from_config({**trace, "precision": {"target": "auto"}}, classes=len(fly.classes),
+                                     noise=noise_forms(fly)).precision is None
+    asked = TraceSettings.from_config({**trace, "precision": {"target": 0.05}}, classes=3)
+    np.testing.assert_array_equal(adaptive_samples(pilot, np.ones((2, 3)), asked.precision, np.array([[0], [1]])),
+                                  np.ceil(m0 * inflation * (se / 0.05) ** 2))
     with pytest.raises(InputError, match="trace.precision.min_samples: 128 is more than max_samples, 64"):
-        TraceSettings.from_config({**trace, "precision": {"min_samples": 128, "max_samples": 64}},
-                                  receptor_set=fly)
+        TraceSettings.from_config({**trace, "precision": {"min_samples": 128, "max_samples": 64}}, classes=3)
 
 
 def test_adaptive_sampling_gives_the_same_bytes_for_any_batching_threads_or_share(lamp, wavelengths):
@@ -238,7 +268,7 @@ def test_adaptive_sampling_gives_the_same_bytes_for_any_batching_threads_or_shar
     scene, rs = lamp
     n = 20
     axes = off_the_lamp(n, 1.65, np.random.default_rng(8))
-    precision = Precision(0.3, 0.0, 64, 1024)
+    precision = Precision(class_forms(0.3, 1), 0.0, 64, 1024)
     runs = []
     for samples, batch_rays, threads, shares in [(256, 1 << 17, 1, [(0, n)]), (256, 3000, 2, [(0, 7), (7, n)]),
                                                   (4, 1 << 17, 2, [(0, n)])]:

@@ -365,7 +365,8 @@ def test_render_with_the_runs_settings_writes_the_workflows_files(workdir, tmp_p
     result = subprocess.run(
         [sys.executable, "-m", "beeoptics.cli", "render",
          str(workdir / "results/eyes/tiny/receptors.csv"), str(workdir / "scenes/flower/scene.yaml"),
-         "--eye", str(workdir / "eyes/tiny/eye.yaml"), "-o", str(out), "--samples", "16", "--depth", "2",
+         "--eye", str(workdir / "eyes/tiny/eye.yaml"), "-o", str(out), "--samples", "16", "--precision", "auto",
+         "--depth", "2",
          "--seed", "3", "--step-nm", "10", "--width-px", "64", "--field-width-px", "180", "--figures", "--quiet"],
         capture_output=True, text=True)
     assert result.returncode == 0, result.stderr[-2000:]
@@ -373,3 +374,16 @@ def test_render_with_the_runs_settings_writes_the_workflows_files(workdir, tmp_p
     for name in ("responses.csv", "voronoi_map3.png", "density_map3.png", "channel_uv.png", "catches.exr",
                  "hexagon.png", "triangle.png"):
         assert (out / name).read_bytes() == (ran / name).read_bytes(), name
+
+
+def test_a_run_asking_the_animal_s_precision_traces_views_so_and_the_sections_their_samples(workdir):
+    """Asked the animal's precision (``trace.precision.target: auto``, as the test run is), each receptor's
+    samples in ``responses.csv`` are its own, after a pilot of 64; a flight, the detection survey and the
+    compass trace the samples their sections name unless they ask a precision too (README, "Speed"): here
+    the flight's 4."""
+    samples = read_table(workdir / "results/tiny/flower/responses.csv")["samples"]
+    assert np.ptp(samples) > 0 and samples.min() >= 64
+    logs = workdir / "results/logs"
+    frames = "".join(log.read_text() for log in (logs / "flights/dive/tiny").glob("*.log"))
+    assert ": 4 samples each" in frames and "adaptive sampling" not in frames
+    assert "adaptive sampling" in (logs / "trace/tiny/flower/0_of_1.log").read_text()

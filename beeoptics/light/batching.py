@@ -18,6 +18,7 @@ their order, so the results depend neither on the batch size nor on the
 number of threads.
 """
 
+import logging
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
@@ -26,8 +27,10 @@ import numpy as np
 
 from beeoptics.io.errors import InputError
 from beeoptics.io.validation import config_default
-from beeoptics.light.precision import Precision, class_targets
+from beeoptics.light.precision import Precision, class_forms
 from beeoptics.light.sampler import REPLICATE_SHIFT
+
+log = logging.getLogger("beeoptics")
 
 #: Samples in a block: a bundle with more is traced in blocks of this many. The
 #: smallest ``batch_rays`` the config allows, so that a block always fits a batch.
@@ -52,21 +55,30 @@ class TraceSettings(NamedTuple):
     precision: Precision | None = None
 
     @classmethod
-    def from_config(cls, trace, threads=1, samples=None, receptor_set=None):
+    def from_config(cls, trace, threads=1, samples=None, classes=None, noise=None):
         """The settings of a config's ``trace`` section; ``samples`` overrides its samples per receptor.
 
-        ``receptor_set``, the eye's receptor classes, whose catches the
-        section's ``precision`` is asked of (and whose Weber fractions a
-        ``target`` of ``auto`` asks for: :func:`~beeoptics.light.precision.class_targets`);
-        without it (views through pixels), fixed samples.
+        ``classes``, the number of receptor classes whose catches the
+        section's ``precision`` is asked of (without it, views through
+        pixels: fixed samples); ``noise``, the forms a ``target`` of
+        ``auto`` asks of them, from their receptor set's noise
+        (:func:`beeoptics.vision.uncertainty.noise_forms`; None where the set
+        gives none: fixed samples, and a warning).
         """
         asked = {**config_default("trace.precision"), **trace.get("precision", {})}
         if asked["min_samples"] > asked["max_samples"]:
             raise InputError("config", "trace.precision.min_samples",
                              f"{asked['min_samples']} is more than max_samples, {asked['max_samples']}")
-        target = None if receptor_set is None else class_targets(asked["target"], receptor_set.weber)
-        precision = None if target is None else Precision(target, asked["floor"], asked["min_samples"],
-                                                          asked["max_samples"])
+        target, forms = asked["target"], None
+        if classes is not None and target == "auto":
+            forms = noise
+            if noise is None:
+                log.warning("trace.precision.target auto: no receptor noise (the receptor set's Weber "
+                            "fractions) to derive a precision from; tracing the fixed samples_per_receptor")
+        elif classes is not None and target is not None:
+            forms = class_forms(target, classes)
+        precision = None if forms is None else Precision(forms, asked["floor"], asked["min_samples"],
+                                                         asked["max_samples"])
         return cls(samples=trace["samples_per_receptor"] if samples is None else samples, depth=trace["depth"],
                    seed=trace["seed"], batch_rays=trace["batch_rays"], threads=threads,
                    sky_sampling=trace.get("sky_sampling", cls._field_defaults["sky_sampling"]), precision=precision)

@@ -12,14 +12,19 @@ Lemieux 2002).
 
 Adaptive sampling (``trace.precision``) is Stein's two-stage procedure
 (Stein 1945): a pilot of K replicates of m₀ samples estimates each cone's
-relative standard error r₀; the root mean square r of the r₀ of the cone's
-neighbourhood (itself and its nearest on the eye, :func:`neighbourhoods`)
-fixes its samples per replicate, m = m₀ (r/target)² inflated by a
-chi-square quantile (:data:`PROBABILITY`), clipped to the bounds asked;
+errors, the covariance C of its classes' relative errors. What is asked
+is a set of quadratic forms F of them, each to stay at most 1: a relative
+standard error t of every class (C_cc/t², :func:`class_forms`), or the
+receptor-noise-limited distances an error moves, chromatic and
+achromatic (``auto``: :func:`beeoptics.vision.uncertainty.noise_forms`).
+The mean e² of a form's tr(F C) over the cone's neighbourhood (itself and
+its nearest on the eye, :func:`neighbourhoods`), the largest of the forms',
+fixes its samples per replicate, m = m₀ e² inflated by a chi-square
+quantile (:data:`PROBABILITY`), clipped to the bounds asked;
 then K fresh replicates of m samples each (replicates K … 2K − 1, whose
 random numbers none of the pilot's share) give the estimate and its
 error, and the pilots are set aside. Pooling, as renderers filter their
-error estimates over neighbouring pixels before deciding samples, gives r
+error estimates over neighbouring pixels before deciding samples, gives e²
 (K − 1) degrees of freedom per cone pooled rather than K − 1, and lets a
 neighbour's pilot that met a rare bright blade speak for a cone whose own
 pilot missed it. Because m is fixed before any of the estimate's samples
@@ -33,8 +38,6 @@ References
 ----------
 Stein C (1945) A two-sample test for a linear hypothesis whose power is
 independent of the variance. Ann Math Stat 16:243–258.
-Vorobyev M, Osorio D (1998) Receptor noise as a determinant of colour
-thresholds. Proc R Soc Lond B 265:351–358.
 Greiner B, Ribi WA, Warrant EJ (2004) Retinal and optical adaptations for
 nocturnal vision in the halictid bee Megalopta genalis. Cell Tissue Res
 316:377–390.
@@ -44,22 +47,14 @@ L'Ecuyer P, Lemieux C (2002) Recent advances in randomized quasi-Monte Carlo
 methods. In: Dror M et al. (eds) Modeling Uncertainty. Kluwer, pp 419–474.
 """
 
-import logging
 from typing import NamedTuple
 
 import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import chdtri
 
-from beeoptics.replicates import REPLICATES, standard_error
+from beeoptics.replicates import REPLICATES
 
-log = logging.getLogger("beeoptics")
-
-#: A catch's relative standard error asked by ``target: auto``, as a share of its class's Weber fraction ω:
-#: the log of an estimated catch has variance about rse², and the receptor-noise-limited distance weighs each
-#: class's log contrast by 1/ω² (Vorobyev & Osorio 1998), so rse ≤ ω/4 adds at most ω²/16 to a variance of
-#: ω², a sixteenth, to every class's term and so to ΔS²'s expected value.
-NOISE_FRACTION = 0.25
 #: The cones whose pilots set a cone's samples: itself and its six nearest, an ommatidium and its ring
 #: of the hexagonal lattice. Measured for the worker pair in the meadow at a target of 3 % (the pilots of
 #: eight seeds, each receptor's true error from 32 further replicates, errors taken to fall as 1/√N as
@@ -84,10 +79,12 @@ ORIGIN_SCALE_M = 1.0e-3
 
 
 class Precision(NamedTuple):
-    """What adaptive sampling asks (``trace.precision``): the relative standard error of each class's catch
-    (a number, or one per class), the floor (a fraction of a white surface's catch), and the samples' bounds."""
+    """What adaptive sampling asks (``trace.precision``): ``forms``, quadratic forms of a catch's relative
+    errors each of which is to stay at most 1 (:func:`class_forms`;
+    :func:`beeoptics.vision.uncertainty.noise_forms`), the floor (a
+    fraction of a white surface's catch), and the samples' bounds."""
 
-    target: float | np.ndarray
+    forms: np.ndarray
     floor: float
     min_samples: int
     max_samples: int
@@ -104,20 +101,10 @@ def replicate_samples(samples):
     return replicates, int(samples) // replicates
 
 
-def class_targets(target, weber):
-    """The relative standard error asked of each class's catch, or None for fixed sampling.
-
-    ``target``: a number, ``"auto"`` (:data:`NOISE_FRACTION` of each class's
-    Weber fraction ``weber``) or None. ``auto`` for a receptor set without
-    Weber fractions traces fixed samples, and says so.
-    """
-    if target != "auto":
-        return target
-    if weber is None:
-        log.warning("trace.precision.target auto: the receptor set gives no receptor noise (Weber fractions) to "
-                    "derive a precision from; tracing the fixed samples_per_receptor")
-        return None
-    return NOISE_FRACTION * np.asarray(weber, float)
+def class_forms(target, classes):
+    """The forms asking a relative standard error ``target`` of each of ``classes`` catches: (classes,
+    classes, classes), one a class, e_c e_cᵀ / target²."""
+    return np.eye(classes)[:, :, None] * np.eye(classes)[:, None, :] / float(target) ** 2
 
 
 def neighbourhoods(origins, axes):
@@ -147,15 +134,17 @@ def neighbourhoods(origins, axes):
 
 
 def adaptive_samples(pilot, white, precision, near):
-    """Each receptor's samples per replicate from the pilots of its neighbourhood: m₀ (r/target)² ν/χ²_ν,
-    within the bounds asked.
+    """Each receptor's samples per replicate from the pilots of its neighbourhood: m₀ e² ν/χ²_ν, within the
+    bounds asked.
 
-    r is the root mean square of the relative standard errors of the
-    neighbourhood's pilots, of ν = (K − 1)·j degrees of freedom for j cones,
-    and χ²_ν its quantile at 1 − :data:`PROBABILITY`, so that, were the
-    neighbours' errors the receptor's own, its error would meet the target
-    with that probability (a chi-square quantile in place of Stein's t).
-    Of several classes, the one needing the most samples decides.
+    e² is, of the forms asked (:class:`Precision`), the largest of each
+    form's mean over the neighbourhood of the pilots' tr(F C), C the
+    covariance of a pilot's relative errors (over its K replicates, of its
+    mean): the factor by which m₀ samples fall short. Each is a variance
+    estimate of ν = (K − 1)·j degrees of freedom for j cones, and χ²_ν its
+    quantile at 1 − :data:`PROBABILITY`, so that, were the neighbours'
+    errors the receptor's own, its error would meet every form with that
+    probability (a chi-square quantile in place of Stein's t).
 
     Parameters
     ----------
@@ -164,7 +153,7 @@ def adaptive_samples(pilot, white, precision, near):
         every cone in a neighbourhood.
     white : ndarray, shape (n, k)
         Each of those cones' catches of a white Lambertian surface under the scene's light: a catch below
-        ``precision.floor`` times it is held to the target times that, not times itself.
+        ``precision.floor`` times it has its error taken relative to that, not to itself.
     precision : Precision
     near : ndarray of int, shape (r, j)
         Each receptor's neighbourhood (:func:`neighbourhoods`), as rows of ``pilot``.
@@ -175,12 +164,12 @@ def adaptive_samples(pilot, white, precision, near):
     """
     k = pilot.shape[1]
     m0 = precision.min_samples // k
-    target = np.asarray(precision.target, float)
-    # A target per class of a set whose classes these are not (a flat-sensitivity catch): the strictest.
-    target = target if target.size in (1, pilot.shape[2]) else target.min()
-    scale = target * np.maximum(pilot.mean(axis=1), precision.floor * white)
+    mean = pilot.mean(axis=1)
+    scale = np.maximum(mean, precision.floor * white)[:, None, :]
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.nan_to_num(np.where(scale > 0.0, standard_error(pilot) / scale, 0.0))
+        relative = np.nan_to_num(np.where(scale > 0.0, (pilot - mean[:, None, :]) / scale, 0.0))
+    covariance = np.einsum("nka,nkb->nab", relative, relative) / ((k - 1) * k)
+    shortfall = np.einsum("fab,nab->nf", precision.forms, covariance)
     dof = (k - 1) * near.shape[1]
-    m = np.ceil(m0 * dof / chdtri(dof, PROBABILITY) * (ratio[near] ** 2).mean(axis=1).max(axis=1))
+    m = np.ceil(m0 * dof / chdtri(dof, PROBABILITY) * shortfall[near].mean(axis=1).max(axis=1))
     return np.clip(m, m0, precision.max_samples // k).astype(np.int64)

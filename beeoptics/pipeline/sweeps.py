@@ -50,8 +50,10 @@ def variants(sweep):
 
 
 def variant_trace(chosen):
-    """Overrides of the config's ``trace`` section for a variant."""
-    return {k: v for k, v in chosen.items() if k == "samples_per_receptor"}
+    """Overrides of the config's ``trace`` section for a variant: samples it names are traced, fixed."""
+    if "samples_per_receptor" not in chosen:
+        return {}
+    return {"samples_per_receptor": chosen["samples_per_receptor"], "precision": {"target": None}}
 
 
 def variant_light(chosen):

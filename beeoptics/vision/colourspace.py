@@ -399,6 +399,23 @@ def rnl_distance(q1, q2, weber):
     return np.sqrt((w * (df - mean) ** 2).sum(-1))
 
 
+def rnl_metric(weber):
+    """The receptor-noise-limited chromatic distance's metric: M with ΔS² = Δfᵀ M Δf (:func:`rnl_distance`).
+
+    Parameters
+    ----------
+    weber : array_like, shape (n,)
+        Noise e_i of each colour class as a Weber fraction.
+
+    Returns
+    -------
+    ndarray, shape (n, n)
+        M = W − w wᵀ / Σw, w_i = 1/e_i², W = diag(w), JND² per unit log catch²; M·1 = 0.
+    """
+    w = 1.0 / np.asarray(weber, float) ** 2
+    return np.diag(w) - np.outer(w, w) / w.sum()
+
+
 def spectral_locus(sensitivities, wavelengths, background_q, flux):
     """Triangle and hexagon coordinates of monochromatic lights, one per grid wavelength.
 

@@ -68,6 +68,15 @@ STARTS_CHAINS, AWAITED = 2, 1
 # bit-identical), so it is left out: changing it reruns the trace's shares, not what reads them.
 TRACE = {k: v for k, v in config["trace"].items() if k != "parts"}
 
+
+def section_trace(section, keys=("samples_per_receptor",)):
+    """The trace settings of a section that names its own samples (a flight, its views, the detection survey,
+    the polarisation maps, the compass): its ``keys`` over the trace section's, traced to the section's own
+    precision (null, its default: its samples each), with trace.precision's floor and bounds."""
+    return {**TRACE, **{k: section[k] for k in keys},
+            "precision": {**TRACE["precision"], "target": section["precision"]}}
+
+
 #: What a folder holds for people, not for the stages that read it: its READMEs, and a scene's flights
 #: (which the flight rules read as their own input).
 NOT_READ = ("README.md", "flights")

@@ -15,8 +15,7 @@ rule detection_survey:
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         flowers=lambda w: SCENES_DIR / w.scene / MEADOW_FLOWERS,
         spectral=config["spectral"],
-        trace={**TRACE, "samples_per_receptor": config["detection"]["samples_per_receptor"],
-               "depth": config["detection"]["depth"]},
+        trace=section_trace(config["detection"], ("samples_per_receptor", "depth")),
         survey=config["detection"],
         receptor_curves=config["colour"]["sensitivities"],
     priority: AWAITED

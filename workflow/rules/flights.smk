@@ -36,7 +36,7 @@ rule flight_frames:
         receptor_curves=config["colour"]["sensitivities"],
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
-        trace=lambda w: {**TRACE, "samples_per_receptor": config["flights"][w.flight]["samples_per_receptor"]},
+        trace=lambda w: section_trace(config["flights"][w.flight]),
         fps=lambda w: config["flights"][w.flight]["fps"],
         frames_per_job=lambda w: config["flights"][w.flight]["frames_per_job"],
         target=lambda w: config["flights"][w.flight].get("target"),
@@ -146,8 +146,7 @@ rule flight_views:
         eye=eye_file,
         scene=lambda w: SCENES_DIR / config["flights"][w.flight]["scene"] / "scene.yaml",
         spectral=config["spectral"],
-        trace=lambda w: {**TRACE, **{k: config["flights"][w.flight]["views"][k]
-                                              for k in ("samples_per_receptor", "depth")}},
+        trace=lambda w: section_trace(config["flights"][w.flight]["views"], ("samples_per_receptor", "depth")),
         fps=lambda w: config["flights"][w.flight]["fps"],
         width_px=lambda w: config["flights"][w.flight]["views"]["width_px"],
         receptor_curves=config["colour"]["sensitivities"],

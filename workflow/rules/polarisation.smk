@@ -16,7 +16,7 @@ rule polarisation_maps:
         eye=lambda w: EYES_DIR / w.eye / "eye.yaml",
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
-        trace=TRACE,
+        trace=section_trace(config["polarisation"]),
         polarisation=config["polarisation"],
         images=config["images"],
         receptor_curves=config["colour"]["sensitivities"],
@@ -43,7 +43,7 @@ rule compass:
         eye=eye_file,
         scene=lambda w: SCENES_DIR / w.scene / "scene.yaml",
         spectral=config["spectral"],
-        trace=TRACE,
+        trace=section_trace(config["polarisation"]["compass"]),
         polarisation=config["polarisation"],
         receptor_curves=config["colour"]["sensitivities"],
     log:

@@ -6,7 +6,7 @@ from beeoptics.pipeline.polarisation import compass
 pol = snakemake.params.polarisation
 with logging_to(snakemake.log[0]):
     compass(snakemake.input.receptors, snakemake.params.scene, snakemake.output, spectral=snakemake.params.spectral,
-            trace={**snakemake.params.trace, "samples_per_receptor": pol["compass"]["samples_per_receptor"]},
+            trace=snakemake.params.trace,
             threads=snakemake.threads, headings=pol["compass"]["headings"],
             turbidities=pol["compass"]["turbidities"], heights_m=pol["compass"]["heights_m"],
             dorsal_rim_ps=analyser_ps(pol["dorsal_rim_ps"]), title=f"{snakemake.wildcards.eye} in {snakemake.wildcards.scene}",

@@ -7,7 +7,7 @@ pol = snakemake.params.polarisation
 with logging_to(snakemake.log[0]):
     polarisation_maps(snakemake.params.eye, snakemake.input.receptors, snakemake.params.scene, snakemake.output,
                       spectral=snakemake.params.spectral,
-                      trace={**snakemake.params.trace, "samples_per_receptor": pol["samples_per_receptor"]},
+                      trace=snakemake.params.trace,
                       threads=snakemake.threads, dorsal_rim_ps=analyser_ps(pol["dorsal_rim_ps"]),
                       width_px=snakemake.params.images["width_px"],
                       field_width_px=snakemake.params.images["visual_field_width_px"],
