@@ -52,3 +52,23 @@ def standard_error(replicates, axis=1):
     if k < 2:
         return np.full(np.delete(replicates.shape, axis), np.nan)
     return replicates.std(axis=axis, ddof=1) / np.sqrt(k)
+
+
+def mean_covariance(replicates):
+    """The covariance of the mean of independent replicate estimates of several quantities.
+
+    Parameters
+    ----------
+    replicates : array_like, shape (n, K, k)
+        K independent replicate estimates of k quantities, n times.
+
+    Returns
+    -------
+    ndarray, shape (n, k, k)
+        Their sample covariance (K − 1 in the denominator) over K, in the units of ``replicates`` squared;
+        its diagonal is :func:`standard_error`'s square.
+    """
+    replicates = np.asarray(replicates, float)
+    k = replicates.shape[1]
+    deviation = replicates - replicates.mean(axis=1, keepdims=True)
+    return np.einsum("nka,nkb->nab", deviation, deviation) / ((k - 1) * k)

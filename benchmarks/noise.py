@@ -34,7 +34,8 @@ Both estimators trace a few receptors first, untimed, so that the first
 timed does not pay for loading the compiled kernels.
 
 With ``--precision TARGET`` it compares fixed sampling with adaptive
-sampling to that relative standard error instead (``trace.precision``,
+sampling to that relative standard error, or with ``--precision auto`` to
+the animal's precision, instead (``trace.precision``,
 :mod:`beeoptics.light.precision`; see :func:`precision_comparison`).
 
 What makes that noise: a scene lit by a sky and a sun is traced again,
@@ -64,8 +65,9 @@ import numpy as np
 import beeoptics
 from beeoptics.io.validation import config_defaults
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
-from beeoptics.replicates import standard_error
+from beeoptics.replicates import mean_covariance, standard_error
 from beeoptics.vision.receptorset import receptor_set_of
+from beeoptics.vision.uncertainty import NOISE_FRACTION, noise_forms
 
 from record import record
 
@@ -87,8 +89,9 @@ def main(argv=None):
     parser.add_argument("--threads", type=int, default=2, help="threads (default: %(default)s)")
     parser.add_argument("--seeds", type=int, default=SEEDS,
                         help="independent seeds, at least 2; their spread is the noise (default: %(default)s)")
-    parser.add_argument("--precision", type=float, default=None,
-                        help="compare fixed sampling with adaptive sampling to this relative standard error (0.03)")
+    parser.add_argument("--precision", type=lambda text: text if text == "auto" else float(text), default=None,
+                        help="compare fixed sampling with adaptive sampling to this relative standard error (0.03), "
+                             "or to the animal's precision (auto)")
     args = parser.parse_args(argv)
     if args.seeds < 2:
         parser.error("--seeds: at least 2, for a spread")
@@ -184,20 +187,33 @@ def precision_comparison(args, config, eye, scene):
     included). ``time_to_p99_ratio`` (and ``_cpu``): fitting the own G p99
     of the two fixed runs to c·N^−a, the trace time fixed sampling needs to
     bring its p99 to adaptive's (time taken as proportional to N), over
-    adaptive's time.
+    adaptive's time. ``jnd``, where the receptor set gives its noise: the
+    50th, 90th and 99th percentiles over the receptors of the error, in
+    just-noticeable differences, that a run's catches put into a chromatic
+    and an achromatic receptor-noise-limited distance (the root mean square
+    over the seeds, as above), which ``--precision auto`` holds to a quarter.
     """
     receptor_set = eye.receptor_set
     g = receptor_set.classes[receptor_set.achromatic]
     settings = {f"fixed_{args.spp // 4}": (args.spp // 4, None), f"fixed_{args.spp}": (args.spp, None),
-                f"adaptive_{args.precision:g}": (args.spp, args.precision)}
+                f"adaptive_{args.precision}": (args.spp, args.precision)}
+    # The errors in just-noticeable differences of the receptor-noise-limited distances, where the set gives
+    # its noise: a form F of noise_forms measures tr(F C) = (error / NOISE_FRACTION of a JND)².
+    forms = noise_forms(receptor_set)
+    forms = None if forms is None else forms * NOISE_FRACTION ** 2
     out = {}
     for name, (samples, precision) in settings.items():
-        catches, own, seconds, taken = [], [], [], []
+        catches, own, seconds, taken, jnd = [], [], [], [], []
         for seed in range(1, args.seeds + 1):
             view = beeoptics.look(eye, scene, samples=samples, depth=args.depth, seed=seed, precision=precision,
                                   threads=args.threads)
             catches.append(view.replicate_catches.mean(axis=1))
             own.append(standard_error(view.replicate_catches))
+            if forms is not None:
+                q = view.replicate_catches.mean(axis=1)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    relative = mean_covariance(view.replicate_catches) / (q[:, :, None] * q[:, None, :])
+                jnd.append(np.einsum("fab,nab->nf", forms, relative))
             seconds.append((view.counts["seconds"], view.counts["cpu_seconds"]))
             # The pilot's samples are not among an adaptive estimate's.
             taken.append(view.samples.mean() + (0 if precision is None else
@@ -212,8 +228,14 @@ def precision_comparison(args, config, eye, scene):
             c: {f"{how}_p{p}": float(np.nanpercentile(rel[:, k], p)) for how, rel in (("own", rel_own),
                                                                                   ("seeds", rel_seeds))
                 for p in (50, 90, 99)} for k, c in enumerate(receptor_set.classes)}}
+        if forms is not None:
+            # Each run's own error, as for the catches: the root mean square over the seeds.
+            error = np.sqrt(np.mean(jnd, axis=0))[lit]
+            out[name]["jnd"] = {f"{kind}_p{p}": float(np.nanpercentile(error[:, f], p))
+                                for f, kind in enumerate(("chromatic", "achromatic")[:len(forms)]) for p in (50, 90, 99)}
         print(f"{name}: {out[name]['samples']:.0f} samples a receptor, trace {out[name]['trace_s']:.1f} s "
               f"({out[name]['trace_cpu_s']:.1f} s CPU); " +
+              "".join(f"{k} {v:.3f} JND; " for k, v in out[name].get("jnd", {}).items()) +
               "; ".join(f"{c} " + ", ".join(f"{k} {v:.4f}" for k, v in d.items())
                         for c, d in out[name]["classes"].items()), flush=True)
     low, high, adaptive = settings

@@ -6,7 +6,7 @@ from scipy import stats
 
 from beeoptics.light.batching import TraceSettings
 from beeoptics.light.precision import Precision, adaptive_samples, class_forms
-from beeoptics.replicates import REPLICATES, T95, standard_error
+from beeoptics.replicates import REPLICATES, T95, mean_covariance, standard_error
 from beeoptics.light.scene import load_scene, raycasting_scene
 from beeoptics.light.sensors import cone_samples, cone_sigma
 from beeoptics.light.sampler import tangent_frames
@@ -119,6 +119,14 @@ def test_one_replicate_gives_no_standard_error():
     assert np.isnan(standard_error(np.ones((3, 1, 2)))).all()
     assert standard_error(np.array([[1.0, 3.0]]))[0] == pytest.approx(1.0)
     assert T95 == pytest.approx(stats.t.ppf(0.975, REPLICATES - 1), abs=1e-4)
+
+
+def test_the_replicates_covariance_of_their_mean_is_numpy_s_over_their_count():
+    replicates = np.random.default_rng(4).normal(size=(5, REPLICATES, 3))
+    got = mean_covariance(replicates)
+    for n in range(5):
+        np.testing.assert_allclose(got[n], np.cov(replicates[n], rowvar=False) / REPLICATES)
+    np.testing.assert_allclose(np.diagonal(got, axis1=1, axis2=2), standard_error(replicates) ** 2)
 
 
 @pytest.fixture(scope="module")

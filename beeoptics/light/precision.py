@@ -53,7 +53,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 from scipy.special import chdtri
 
-from beeoptics.replicates import REPLICATES
+from beeoptics.replicates import REPLICATES, mean_covariance
 
 #: The cones whose pilots set a cone's samples: itself and its six nearest, an ommatidium and its ring
 #: of the hexagonal lattice. Measured for the worker pair in the meadow at a target of 3 % (the pilots of
@@ -164,11 +164,10 @@ def adaptive_samples(pilot, white, precision, near):
     """
     k = pilot.shape[1]
     m0 = precision.min_samples // k
-    mean = pilot.mean(axis=1)
-    scale = np.maximum(mean, precision.floor * white)[:, None, :]
+    scale = np.maximum(pilot.mean(axis=1), precision.floor * white)
     with np.errstate(divide="ignore", invalid="ignore"):
-        relative = np.nan_to_num(np.where(scale > 0.0, (pilot - mean[:, None, :]) / scale, 0.0))
-    covariance = np.einsum("nka,nkb->nab", relative, relative) / ((k - 1) * k)
+        inverse = np.where(scale > 0.0, 1.0 / scale, 0.0)
+    covariance = np.nan_to_num(mean_covariance(pilot) * inverse[:, :, None] * inverse[:, None, :])
     shortfall = np.einsum("fab,nab->nf", precision.forms, covariance)
     dof = (k - 1) * near.shape[1]
     m = np.ceil(m0 * dof / chdtri(dof, PROBABILITY) * shortfall[near].mean(axis=1).max(axis=1))
