@@ -195,7 +195,6 @@ def test_bad_input_is_refused_naming_the_field(eye, scene, call, field):
     assert refused.value.field == field
 
 
-
 def test_a_look_traces_its_samples_or_to_the_precision_asked(eye, scene):
     """By default each receptor takes the configuration's samples; asked a precision (the animal's, ``auto``,
     or a relative standard error), each takes its own, after a pilot of 64, whatever the samples given."""

@@ -560,4 +560,3 @@ def test_an_output_folder_that_cannot_be_written_is_named(built, tmp_path, capsy
     code, _, err = call(capsys, "convert", built / "receptors.csv", blocker / "eye.eye")
     # The cause in words, without Python's "[Errno 17]".
     assert code == 1 and err.strip() == f"beeoptics: error: {blocker}: cannot write there (a file, not a folder)"
-
