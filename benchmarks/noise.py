@@ -65,7 +65,8 @@ import numpy as np
 import beeoptics
 from beeoptics.io.validation import config_defaults
 from beeoptics.pipeline.world import MEADOW_FILE, MEADOW_MESH
-from beeoptics.replicates import mean_covariance, standard_error
+from beeoptics.light.precision import form_errors
+from beeoptics.replicates import standard_error
 from beeoptics.vision.receptorset import receptor_set_of
 from beeoptics.vision.uncertainty import NOISE_FRACTION, noise_forms
 
@@ -210,10 +211,7 @@ def precision_comparison(args, config, eye, scene):
             catches.append(view.replicate_catches.mean(axis=1))
             own.append(standard_error(view.replicate_catches))
             if forms is not None:
-                q = view.replicate_catches.mean(axis=1)
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    relative = mean_covariance(view.replicate_catches) / (q[:, :, None] * q[:, None, :])
-                jnd.append(np.einsum("fab,nab->nf", forms, relative))
+                jnd.append(form_errors(view.replicate_catches, view.replicate_catches.mean(axis=1), forms))
             seconds.append((view.counts["seconds"], view.counts["cpu_seconds"]))
             # The pilot's samples are not among an adaptive estimate's.
             taken.append(view.samples.mean() + (0 if precision is None else

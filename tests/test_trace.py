@@ -198,8 +198,7 @@ def test_the_scrambled_sequence_is_made_once_a_seed_and_drawn_from_by_threads_at
 
     from beeoptics.light import sampler
 
-    if hasattr(sampler, "_scrambled_halton"):
-        sampler._scrambled_halton.cache_clear()
+    sampler._scrambled_halton.cache_clear()
     made, halton = [], qmc.Halton
     monkeypatch.setattr(qmc, "Halton", lambda *a, **k: made.append(a) or halton(*a, **k))
     streams = np.arange(64)

@@ -26,5 +26,5 @@ __all__, __getattr__ = exports(__name__, {
     "emitters": ("Lights", "sample_sun"),
     "integrator": ("trace_paths",),
     "batching": ("SAMPLE_BLOCK", "TraceSettings", "trace_bundles"),
-    "precision": ("Precision", "adaptive_samples", "replicate_samples"),
+    "precision": ("Precision", "adaptive_samples", "form_errors", "replicate_samples"),
 })

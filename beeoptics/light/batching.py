@@ -70,13 +70,11 @@ class TraceSettings(NamedTuple):
             raise InputError("config", "trace.precision.min_samples",
                              f"{asked['min_samples']} is more than max_samples, {asked['max_samples']}")
         target, forms = asked["target"], None
-        if classes is not None and target == "auto":
-            forms = noise
-            if noise is None:
+        if classes is not None and target is not None:
+            forms = noise if target == "auto" else class_forms(target, classes)
+            if forms is None:
                 log.warning("trace.precision.target auto: no receptor noise (the receptor set's Weber "
                             "fractions) to derive a precision from; tracing the fixed samples_per_receptor")
-        elif classes is not None and target is not None:
-            forms = class_forms(target, classes)
         precision = None if forms is None else Precision(forms, asked["floor"], asked["min_samples"],
                                                          asked["max_samples"])
         return cls(samples=trace["samples_per_receptor"] if samples is None else samples, depth=trace["depth"],

@@ -133,6 +133,30 @@ def neighbourhoods(origins, axes):
     return cKDTree(points).query(points, k)[1].reshape(len(points), k)
 
 
+def form_errors(replicates, scale, forms):
+    """Each form's measure of the error of the replicates' mean: tr(F C), C the covariance of that mean
+    relative to ``scale``.
+
+    Parameters
+    ----------
+    replicates : ndarray, shape (n, K, k)
+        K independent replicate catches of k classes.
+    scale : ndarray, shape (n, k)
+        What each error is relative to (the catches, or a floor under them); a scale of 0 counts no error.
+    forms : ndarray, shape (f, k, k)
+        :class:`Precision`'s forms.
+
+    Returns
+    -------
+    ndarray, shape (n, f)
+        Each is at most 1 where the error meets the form.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inverse = np.where(scale > 0.0, 1.0 / scale, 0.0)
+    covariance = np.nan_to_num(mean_covariance(replicates) * inverse[:, :, None] * inverse[:, None, :])
+    return np.einsum("fab,nab->nf", forms, covariance)
+
+
 def adaptive_samples(pilot, white, precision, near):
     """Each receptor's samples per replicate from the pilots of its neighbourhood: m₀ e² ν/χ²_ν, within the
     bounds asked.
@@ -164,11 +188,7 @@ def adaptive_samples(pilot, white, precision, near):
     """
     k = pilot.shape[1]
     m0 = precision.min_samples // k
-    scale = np.maximum(pilot.mean(axis=1), precision.floor * white)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inverse = np.where(scale > 0.0, 1.0 / scale, 0.0)
-    covariance = np.nan_to_num(mean_covariance(pilot) * inverse[:, :, None] * inverse[:, None, :])
-    shortfall = np.einsum("fab,nab->nf", precision.forms, covariance)
+    shortfall = form_errors(pilot, np.maximum(pilot.mean(axis=1), precision.floor * white), precision.forms)
     dof = (k - 1) * near.shape[1]
     m = np.ceil(m0 * dof / chdtri(dof, PROBABILITY) * shortfall[near].mean(axis=1).max(axis=1))
     return np.clip(m, m0, precision.max_samples // k).astype(np.int64)
