@@ -466,8 +466,8 @@ def shorten_view(key):
     (lambda doc: doc["nodes"][0]["extensions"].pop("OCES_eyes"), "nodes.1", "outside every head"),
     (lambda doc: doc["extensions"].pop("OCES_eyes"), "extensions.OCES_eyes", "missing"),
     (lambda doc: doc["nodes"][0]["extensions"]["OCES_eyes"].update(enabled=False), "eyes", "no enabled"),
-    # The glTF container's own fields are named too: a glTF library's decoding (pygltflib's) names none, failing
-    # with a TypeError, or reads a count of 3.5 as 3 and a missing asset as glTF 2.0.
+    # The glTF container's own fields are named too: pygltflib's decoding names none, failing with a TypeError
+    # or an AttributeError, or reads a count of 3.5 as 3 and a missing asset as glTF 2.0 (beeoptics.io.oces).
     (lambda doc: doc.update(nodes=5), "nodes", "must be a JSON array"),
     (lambda doc: doc["nodes"].__setitem__(1, "eye"), "nodes.1", "must be a JSON object"),
     (lambda doc: doc.pop("asset"), "asset", "missing"),

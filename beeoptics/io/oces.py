@@ -11,6 +11,17 @@ its head. :func:`write_oces` writes a receptor table as such a file, ``.gltf``
 JSON and a BIN chunk), by its suffix; :func:`read_oces` reads it, or an OCES
 file another tool wrote, back as a :class:`~beeoptics.io.receptortable.ReceptorTable`.
 
+The container is pygltflib's on writing: its glTF object model, GLB chunks
+and data URIs. Reading walks the file's JSON itself, as a dict, because
+what a malformed file gets is one line naming its field, and pygltflib's
+reader names none: its GLB reader takes a chunk running past the file as
+the bytes that remain and fails on a BIN chunk first with an AttributeError,
+its JSON decoding fails on ``"nodes": 5`` with a TypeError and on
+``"nodes": [5]`` with an AttributeError, naming no field, reads a count
+of 3.5 as 3 and a file without ``asset`` as glTF 2.0, and its data URIs
+skip characters that are not base64. Reading through it would mean these
+checks in front of it and the same file parsed twice.
+
 What is written
 ---------------
 One scene: a head node (``{"head": true}``) whose children are one node per
@@ -145,6 +156,7 @@ from pathlib import Path
 from urllib.parse import unquote
 
 import numpy as np
+import pygltflib as gltf
 from scipy.spatial.transform import Rotation
 
 from beeoptics import __version__
@@ -183,7 +195,6 @@ MIRROR_AXES = {alias: axis for axis, aliases in enumerate((
     ("Z", "SAGITTAL", "ANTERIOR", "POSTERIOR", "ANTEPOSTERIOR", "ANTEROPOSTERIOR", "FORWARD", "BACKWARD",
      "FRONT", "BACK"),
 )) for alias in aliases}
-FLOAT32 = 5126
 ACCESSOR_TYPES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
 GLB_MAGIC, GLB_JSON, GLB_BIN = 0x46546C67, 0x4E4F534A, 0x004E4942
 #: The largest whole number float32 holds exactly, and so the largest id written.
@@ -277,22 +288,20 @@ def write_oces(path, table, *, name="", generator_version=__version__):
         columns += [(f"{eye_name} {key}", v) for key, v in values.items()]
         eyes.append({"name": eye_name, "type": "POINT_OMMATIDIAL", "enabled": True,
                      "ommatidialProperties": {key: first + j for j, key in enumerate(values)}})
-        nodes.append({"name": eye_name, "translation": (EYE_SCALE * centre @ HCS_FROM_HEAD.T).tolist(),
-                      "scale": [EYE_SCALE] * 3, "extensions": {EXTENSION: {"eye": k}}})
+        nodes.append(gltf.Node(name=eye_name, translation=(EYE_SCALE * centre @ HCS_FROM_HEAD.T).tolist(),
+                               scale=[EYE_SCALE] * 3, extensions={EXTENSION: {"eye": k}}))
     accessors, views, blob = _layout([v for _, v in columns])
-    doc = {
-        "asset": {"version": "2.0", "generator": f"beeoptics {generator_version}"},
-        "extensionsUsed": [EXTENSION],
-        "scene": 0,
-        "scenes": [{"nodes": [0]}],
-        "nodes": [{"name": name or "head", "children": list(range(1, len(nodes) + 1)),
-                   "extensions": {EXTENSION: {"head": True}}}, *nodes],
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [{"byteLength": len(blob)} if binary else
-                    {"byteLength": len(blob),
-                     "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode("ascii")}],
-        "extensions": {EXTENSION: {
+    doc = gltf.GLTF2(
+        asset=gltf.Asset(version="2.0", generator=f"beeoptics {generator_version}"),
+        extensionsUsed=[EXTENSION],
+        scene=0,
+        scenes=[gltf.Scene(nodes=[0])],
+        nodes=[gltf.Node(name=name or "head", children=list(range(1, len(nodes) + 1)),
+                         extensions={EXTENSION: {"head": True}}), *nodes],
+        accessors=accessors,
+        bufferViews=views,
+        buffers=[gltf.Buffer(byteLength=len(blob))],
+        extensions={EXTENSION: {
             "version": OCES_VERSION,
             # The draft's text names the generator's "program", its schema "name": both are given.
             "generator": {"name": "beeoptics", "program": "beeoptics", "version": generator_version},
@@ -308,13 +317,14 @@ def write_oces(path, table, *, name="", generator_version=__version__):
                                      for j, (label, _) in enumerate(columns)],
             "eyes": eyes,
         }},
-    }
-    text = json.dumps(doc, indent=1)
+    )
+    doc.set_binary_blob(blob)
     with atomic_path(path) as tmp:
         if binary:
-            tmp.write_bytes(_glb(text.encode("utf-8"), blob))
+            tmp.write_bytes(b"".join(doc.save_to_bytes()))
         else:
-            tmp.write_text(text + "\n", encoding="utf-8")
+            doc.convert_buffers(gltf.BufferFormat.DATAURI)
+            tmp.write_text(doc.gltf_to_json(indent=1) + "\n", encoding="utf-8")
 
 
 def read_oces(path):
@@ -435,20 +445,11 @@ def _layout(arrays):
     accessors, views, blob = [], [], bytearray()
     for values in arrays:
         data = np.ascontiguousarray(values, "<f4")
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": data.nbytes})
-        accessors.append({"bufferView": len(views) - 1, "componentType": FLOAT32, "count": len(data),
-                          "type": "VEC3" if data.ndim == 2 else "SCALAR"})
+        views.append(gltf.BufferView(buffer=0, byteOffset=len(blob), byteLength=data.nbytes))
+        accessors.append(gltf.Accessor(bufferView=len(views) - 1, componentType=gltf.FLOAT, count=len(data),
+                                       type=gltf.VEC3 if data.ndim == 2 else gltf.SCALAR))
         blob += data.tobytes()
     return accessors, views, bytes(blob)
-
-
-def _glb(json_bytes, blob):
-    """A binary glTF container: header, JSON chunk (space-padded) and BIN chunk (zero-padded), glTF 2.0 §4."""
-    json_bytes += b" " * (-len(json_bytes) % 4)
-    blob += b"\0" * (-len(blob) % 4)
-    chunks = (struct.pack("<II", len(json_bytes), GLB_JSON) + json_bytes
-              + struct.pack("<II", len(blob), GLB_BIN) + blob)
-    return struct.pack("<III", GLB_MAGIC, 2, 12 + len(chunks)) + chunks
 
 
 def _is_glb(path, error):
@@ -550,9 +551,9 @@ def _accessor(path, doc, glb_bin, index, field, key, cache):
     """The values (count, components) of accessor ``index``, float64, for property ``key`` at ``field``."""
     acc = _object(path, field, _item(path, field, index, _list(path, "accessors", doc.get("accessors")), "accessors"))
     at = f"accessor {index}"
-    if acc.get("componentType") != FLOAT32:
+    if acc.get("componentType") != gltf.FLOAT:
         raise InputError(path, field, f"{at} has componentType {acc.get('componentType')!r}; "
-                                      f"{key} is read as float32 ({FLOAT32})")
+                                      f"{key} is read as float32 ({gltf.FLOAT})")
     width = ACCESSOR_TYPES.get(acc.get("type"))
     if width not in WIDTHS[key]:
         wanted = " or ".join("SCALAR" if w == 1 else f"VEC{w}" for w in WIDTHS[key])
