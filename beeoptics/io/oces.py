@@ -196,7 +196,6 @@ MIRROR_AXES = {alias: axis for axis, aliases in enumerate((
      "FRONT", "BACK"),
 )) for alias in aliases}
 ACCESSOR_TYPES = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
-GLB_MAGIC, GLB_JSON, GLB_BIN = 0x46546C67, 0x4E4F534A, 0x004E4942
 #: The largest whole number float32 holds exactly, and so the largest id written.
 FLOAT32_WHOLE = 2**24
 
@@ -490,10 +489,10 @@ def _glb_chunks(path, data):
     """The JSON chunk and the BIN chunk (or None) of binary glTF (glTF 2.0 §4)."""
     if len(data) < 12:
         raise InputError(path, "", "too short for a binary glTF header")
-    magic, version, length = struct.unpack_from("<III", data)
-    if magic != GLB_MAGIC:
+    magic, version, length = struct.unpack_from("<4sII", data)
+    if magic != gltf.MAGIC:
         raise InputError(path, "", "not binary glTF: it does not start with 'glTF'")
-    if version != 2:
+    if version != gltf.GLTF_VERSION:
         raise InputError(path, "", f"binary glTF version {version}; glTF 2.0 files are version 2")
     if length != len(data):
         raise InputError(path, "", f"its header gives {length} bytes, but it has {len(data)}: cut off or padded")
@@ -501,14 +500,14 @@ def _glb_chunks(path, data):
     while offset < length:
         if offset + 8 > length:
             raise InputError(path, "", f"the chunk header at byte {offset} is cut off")
-        size, kind = struct.unpack_from("<II", data, offset)
+        size, kind = struct.unpack_from("<I4s", data, offset)
         if offset + 8 + size > length:
             raise InputError(path, "", f"the chunk at byte {offset} runs past the end of the file")
         chunks.append((kind, data[offset + 8:offset + 8 + size]))
         offset += 8 + size
-    if not chunks or chunks[0][0] != GLB_JSON:
+    if not chunks or chunks[0][0] != gltf.JSON.encode():
         raise InputError(path, "", "binary glTF's first chunk must be its JSON")
-    return chunks[0][1], chunks[1][1] if len(chunks) > 1 and chunks[1][0] == GLB_BIN else None
+    return chunks[0][1], chunks[1][1] if len(chunks) > 1 and chunks[1][0] == gltf.BIN.encode() else None
 
 
 def _buffer(path, doc, glb_bin, index, field, cache):
