@@ -179,6 +179,7 @@ def test_the_dorsal_rim_area_is_the_strip_along_the_top():
 
 
 @pytest.mark.parametrize("lines", ["rows", "columns"])
+@pytest.mark.filterwarnings("error")
 def test_seidls_angles_are_read_off_a_lattice_in_rows_or_in_columns(lines):
     """Seidl's lattice near (60°, 0°): columns Δφ_h/2 apart, Δφ_v a step within a column, every other
     column shifted by half a step; its lenses in rows (Δφ_h along a row) or in columns (Δφ_v along one)."""
@@ -200,3 +201,5 @@ def test_seidls_angles_are_read_off_a_lattice_in_rows_or_in_columns(lines):
     # Within the model's own change over the patch (Δφ_v rises by 0.1° from the equator to 5° up).
     assert shape["delta_phi_h_deg"]["median_ratio"] == pytest.approx(1.0, abs=0.05)
     assert shape["delta_phi_v_deg"]["median_ratio"] == pytest.approx(1.0, abs=0.05)
+    # The patch lies within 5° of the equator: no facet at 45–75° of elevation, and no NaN for one.
+    assert shape["delta_phi_v_deg"]["elevation_45_75"]["ours"] is None

@@ -238,7 +238,8 @@ def anisotropy(points, axes_head, edges, rotation, lines="rows"):
                                                                                    ("lenses", points))}
 
     def median(values, where=ok):
-        return float(np.median(values[where]))
+        # None (JSON's null) where no facet is, as where a patch of lattice does not reach 45–75° of elevation.
+        return float(np.median(values[where])) if where.any() else None
 
     return {
         "delta_phi_h_deg": {"ours": median(ours_h), "model": median(model_h),
