@@ -13,8 +13,8 @@ looks; an eye described by an ``eye.yaml`` is built once and kept in the cache
 >>> view = beeoptics.look(eye, scene, samples=16, depth=1)              # doctest: +SKIP
 >>> view.catches.head()                                                 # doctest: +SKIP
 
-A view's colour coordinates are those of :mod:`beeoptics.vision.colourspace`
-(its references give each model's own): the colour hexagon (Chittka 1992),
+A view's colour coordinates are those of :mod:`beeoptics.vision.colourspace`,
+whose references cite each model in full: the colour hexagon (Chittka 1992),
 the colour-opponent coding space (Backhaus 1991) and the receptor-noise-limited
 distance (Vorobyev & Osorio 1998), against a von Kries-adapted background, as
 pavo computes them (Maia et al. 2019); its images are Collins's map3 and map2
@@ -23,18 +23,11 @@ pavo computes them (Maia et al. 2019); its images are Collins's map3 and map2
 
 References
 ----------
-Backhaus W (1991) Color opponent coding in the visual system of the
-honeybee. Vision Res 31:1381–1397.
-Chittka L (1992) The colour hexagon: a chromaticity diagram based on
-photoreceptor excitations as a generalized representation of colour
-opponency. J Comp Physiol A 170:533–543.
 Collins S. Reconstructing the visual field of compound eyes. §4.4.
 Maia R, Gruson H, Endler JA, White TE (2019) pavo 2: new tools for the
 spectral and spatial analysis of colour in R. Methods Ecol Evol 10:1097–1107.
 Owen AB (1997) Monte Carlo variance of scrambled net quadrature. SIAM J
 Numer Anal 34:1884–1910.
-Vorobyev M, Osorio D (1998) Receptor noise as a determinant of colour
-thresholds. Proc R Soc B 265:351–358.
 """
 
 import functools
@@ -962,21 +955,6 @@ class Cones:
     def radiance_se(self):
         """The radiance's standard error over the trace's replicates, as ``radiance``."""
         return self._made()["radiance_se"]
-
-    @property
-    def spectral_radiance(self):
-        """:attr:`radiance` labelled: a row per receptor, indexed by its ``id``, a column per wavelength of
-        the scene's grid, ``wavelength_nm`` (pandas DataFrame, W m⁻² sr⁻¹ nm⁻¹)."""
-        return self._by_wavelength(self.radiance)
-
-    @property
-    def spectral_radiance_se(self):
-        """:attr:`radiance_se` labelled as :attr:`spectral_radiance` (None without the trace's replicates)."""
-        return None if self.radiance_se is None else self._by_wavelength(self.radiance_se)
-
-    def _by_wavelength(self, values):
-        return _frame(values, index=self.eye.table.id, columns=self.wavelengths_nm).rename_axis(
-            index="id", columns="wavelength_nm")
 
     @property
     def replicate_catches(self):
