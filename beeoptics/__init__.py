@@ -15,7 +15,8 @@ lies under all of them and :mod:`beeoptics.pipeline` (the workflow's stages)
 over all of them; :mod:`beeoptics.spectra`, :mod:`beeoptics.headframe`,
 :mod:`beeoptics.raycasting` and :mod:`beeoptics.replicates` are shared by every stage. From
 Python, :func:`load_eye`, :func:`load_scene`, :func:`look`, :func:`looks` and :func:`look_cones`
-(:mod:`beeoptics.api`) are the one way to the tracer, for the workflow's stages and the command line too. See ``docs/architecture.md``.
+(:mod:`beeoptics.api`) are the one way to the tracer, for the workflow's stages and the command line too
+(:mod:`beeoptics.navigation`, which it exposes, traces its environment maps as cones). See ``docs/architecture.md``.
 """
 
 __version__ = "0.1.0"

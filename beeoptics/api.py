@@ -12,6 +12,22 @@ looks; an eye described by an ``eye.yaml`` is built once and kept in the cache
 >>> scene = beeoptics.load_scene("tests/data/scenes/flower/scene.yaml")  # doctest: +SKIP
 >>> view = beeoptics.look(eye, scene, samples=16, depth=1)              # doctest: +SKIP
 >>> view.catches.head()                                                 # doctest: +SKIP
+
+A view's colour coordinates are those of :mod:`beeoptics.vision.colourspace`,
+whose references cite each model in full: the colour hexagon (Chittka 1992),
+the colour-opponent coding space (Backhaus 1991) and the receptor-noise-limited
+distance (Vorobyev & Osorio 1998), against a von Kries-adapted background, as
+pavo computes them (Maia et al. 2019); its images are Collins's map3 and map2
+(§4.4), and its errors those of independent replicates (Owen 1997;
+:mod:`beeoptics.light.precision`).
+
+References
+----------
+Collins S. Reconstructing the visual field of compound eyes. §4.4.
+Maia R, Gruson H, Endler JA, White TE (2019) pavo 2: new tools for the
+spectral and spatial analysis of colour in R. Methods Ecol Evol 10:1097–1107.
+Owen AB (1997) Monte Carlo variance of scrambled net quadrature. SIAM J
+Numer Anal 34:1884–1910.
 """
 
 import functools
@@ -97,12 +113,21 @@ class Eye:
         (Δφ, the interommatidial angle, degrees) and ``delta_rho_deg`` (Δρ, the
         acceptance angle's full width at half maximum, degrees); ``dorsal_rim`` and
         ``microvilli_deg`` where the eye has a dorsal rim area; ``ommatidium``, each
-        receptor's ommatidial type, where the receptor set has a mosaic.
+        receptor's ommatidial type, where the receptor set has a mosaic; ``classes``,
+        the receptor classes of its ommatidium (its set's names, space-separated:
+        "UV B G" for a bee's every ommatidium, a fly's pale one "R1_6 R7p R8p").
         """
         columns = self.table.columns()
         types = ommatidium_types(self.receptor_set, len(self.table.id))
         if types is not None:
             columns["ommatidium"] = ommatidium_names(self.receptor_set, types)
+        classes = np.array(self.receptor_set.classes)
+        if types is None:
+            columns["classes"] = np.full(len(self.table.id), " ".join(classes))
+        else:
+            kinds = np.arange(len(self.receptor_set.mosaic))
+            columns["classes"] = np.array([" ".join(classes[~lacks]) for lacks in lacking(self.receptor_set,
+                                                                                          kinds)])[types]
         return _frame(columns)
 
     def __repr__(self):
@@ -207,7 +232,8 @@ class Scene:
     scene : beeoptics.light.scene.Scene
         The loaded scene (objects, materials' spectra, sky, sun, the bee's pose).
     light : dict
-        The overrides of the scene file's ``light`` section it is lit by.
+        The overrides of the scene file's ``light`` section it is lit by (the whole section,
+        defaults included: :attr:`lighting`).
     """
 
     def __init__(self, path, wavelengths_nm, scene, light, rs=None):
@@ -240,10 +266,21 @@ class Scene:
 
     @property
     def objects(self):
-        """The objects: name, vertices and faces (pandas DataFrame, a row per object)."""
-        return _frame({"name": [o.name for o in self.scene.objects],
-                             "vertices": [len(o.vertices) for o in self.scene.objects],
-                             "faces": [len(o.faces) for o in self.scene.objects]})
+        """The objects: ``name``, ``vertices``, ``faces`` and ``materials``, the names of the materials its
+        faces (or its texture's texels) are of, space-separated (pandas DataFrame, a row per object)."""
+        names = np.array(self.scene.material_names)
+        objects = self.scene.objects
+        return _frame({"name": [o.name for o in objects], "vertices": [len(o.vertices) for o in objects],
+                       "faces": [len(o.faces) for o in objects],
+                       "materials": [" ".join(names[np.unique(o.texture if o.face_material is None
+                                                             else o.face_material)]) for o in objects]})
+
+    @property
+    def lighting(self):
+        """The light the scene is lit by: its file's ``light`` section with the overrides of :meth:`with_light`
+        applied and the schema's defaults filled in (a dict: ``sky``, ``sun``, ``sun_elevation_deg``,
+        ``sun_azimuth_deg``, ``turbidity``, …; ``beeoptics/io/schemas/scene.schema.yaml``)."""
+        return scenes.lit_by(self.path, self.light)["light"]
 
     def with_light(self, **light):
         """The same scene under other light, its geometry and Embree scene shared, not loaded again.
@@ -358,6 +395,11 @@ class View:
         self.stokes, self.cover, self.counts = stokes, cover, counts or {}
         self._relative, self._responses, self._catches = relative, None, None
 
+    def __repr__(self):
+        return (f"View({len(self.eye.table.id)} receptors of {str(self.eye.path)!r} in {str(self.scene.path)!r}, "
+                f"classes {', '.join(self.eye.receptor_set.classes)}; {self.wavelengths_nm[0]:g}–"
+                f"{self.wavelengths_nm[-1]:g} nm)")
+
     def _errors(self):
         """The radiance's standard error and the replicates' catches, made of the replicates kept for them."""
         if self._replicates is not None:
@@ -371,6 +413,21 @@ class View:
         """The radiance's standard error over the trace's replicates, as ``radiance`` (None without them)."""
         self._errors()
         return self._radiance_se
+
+    @property
+    def spectral_radiance(self):
+        """:attr:`radiance` labelled: a row per receptor, indexed by its ``id``, a column per wavelength of
+        the scene's grid, ``wavelength_nm`` (pandas DataFrame, W m⁻² sr⁻¹ nm⁻¹)."""
+        return self._by_wavelength(self.radiance)
+
+    @property
+    def spectral_radiance_se(self):
+        """:attr:`radiance_se` labelled as :attr:`spectral_radiance` (None without the trace's replicates)."""
+        return None if self.radiance_se is None else self._by_wavelength(self.radiance_se)
+
+    def _by_wavelength(self, values):
+        return _frame(values, index=self.eye.table.id, columns=self.wavelengths_nm).rename_axis(
+            index="id", columns="wavelength_nm")
 
     @property
     def replicate_catches(self):

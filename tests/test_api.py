@@ -129,6 +129,44 @@ def test_a_scene_relit_is_the_scene_loaded_under_that_light(scene):
     assert relit.raycasting is scene.raycasting  # the geometry is not loaded again
 
 
+def test_a_scene_shows_its_objects_materials_and_the_light_it_is_lit_by(scene):
+    # tests/data/scenes/flower/scene.yaml: a ground of leaf, a flower whose palette names centre and tip.
+    assert scene.objects[["name", "materials"]].values.tolist() == [["ground", "leaf"], ["flower", "centre tip"]]
+    lit = scene.lighting
+    assert (lit["sun_elevation_deg"], lit["turbidity"], lit["sky"]) == (50.0, 3.0, "hosek_wilkie")
+    assert lit["day_of_year"] == 172  # the schema's default, which the file does not give
+    relit = scene.with_light(sun_elevation_deg=25.0).with_light(turbidity=4.0).lighting
+    assert (relit["sun_elevation_deg"], relit["turbidity"], relit["sun_azimuth_deg"]) == (25.0, 4.0, 150.0)
+
+
+def test_an_eye_names_each_receptor_s_classes_and_a_view_labels_its_radiance(eye, view):
+    assert set(eye.receptors["classes"]) == {"UV B G"}
+    fly = beeoptics.load_eye(ROOT / "eyes" / "drosophila_melanogaster" / "ommatidia.csv",
+                             receptor_set="drosophila_melanogaster").receptors
+    # Wernet et al. (2006): a pale ommatidium's R7 and R8 hold Rh3 and Rh5, a yellow one's Rh4 and Rh6.
+    pale = fly.ommatidium == "pale"
+    assert set(fly.classes[pale]) == {"R1_6 R7p R8p"} and set(fly.classes[~pale]) == {"R1_6 R7y R8y"}
+    radiance, se = view.spectral_radiance, view.spectral_radiance_se
+    assert radiance.index.name == "id" and radiance.columns.name == "wavelength_nm"
+    np.testing.assert_array_equal(radiance.index, eye.table.id)
+    np.testing.assert_array_equal(radiance.columns, view.wavelengths_nm)
+    np.testing.assert_array_equal(radiance.to_numpy(), view.radiance)
+    np.testing.assert_array_equal(se.to_numpy(), view.radiance_se)
+
+
+@pytest.mark.parametrize("suffix", [".glb", ".eye"])
+def test_an_eye_read_from_oces_or_compoundray_is_the_eye_written(eye, tmp_path, suffix):
+    from beeoptics.io.interchange import write_compoundray_eye
+    from beeoptics.io.oces import write_oces
+
+    path = tmp_path / f"tiny{suffix}"
+    (write_oces if suffix == ".glb" else write_compoundray_eye)(path, eye.table)
+    read = beeoptics.load_eye(path)
+    assert read.receptor_set.name == eye.receptor_set.name and repr(read).startswith(f"Eye({str(path)!r}: ")
+    np.testing.assert_allclose(read.table.axis, eye.table.axis, atol=1e-6)
+    np.testing.assert_allclose(read.table.delta_rho_deg, eye.table.delta_rho_deg, rtol=1e-5)
+
+
 def test_looks_trace_frame_after_frame_the_first_the_look_from_its_pose(eye, scene, view):
     here = {"position_m": scene.scene.eye_position, "rotation": scene.scene.eye_rotation}
     turned = {"position_m": [0.0, 0.0, 0.1], "heading_deg": 90.0, "pitch_deg": -10.0}

@@ -174,3 +174,17 @@ def test_the_stages_that_draw_nothing_import_no_matplotlib():
             "print(' '.join(m for m in ('matplotlib', 'colour', 'plotly') if m in sys.modules))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == ""
+
+
+def test_every_data_file_of_the_package_is_installed_with_it():
+    """pyproject's package-data globs, as setuptools takes them (relative to each package's folder, ``*``
+    within one folder), cover every file of the package that is not Python: a wheel or a non-editable
+    install carries its data (the receptor sets in vision/data/receptor_sets were left out)."""
+    import tomllib
+
+    globs = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"]
+    installed = {f for package, patterns in globs.items() for pattern in patterns
+                 for f in (ROOT / package.replace(".", "/")).glob(pattern) if f.is_file()}
+    data = {f for f in PACKAGE.rglob("*") if f.is_file() and f.suffix not in (".py", ".pyc")
+            and "__pycache__" not in f.parts}
+    assert sorted(str(f.relative_to(ROOT)) for f in data - installed) == []

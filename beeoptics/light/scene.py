@@ -312,12 +312,18 @@ def posed(scene, eye):
                                                      eye.get("roll_deg", 0.0)))
 
 
+def lit_by(path, light):
+    """A scene file's contents, checked and its defaults filled in, with the overrides ``light`` of its
+    ``light`` section."""
+    data = load_yaml(path)
+    data.setdefault("light", {}).update(light)
+    return validate(data, "scene", path)
+
+
 def relit(scene, wavelengths, light):
     """``scene`` under its scene file's light with the overrides ``light``: a new sky and sun, the
     same geometry and materials (no mesh or spectrum read again)."""
-    data = load_yaml(scene.path)
-    data.setdefault("light", {}).update(light)
-    data = validate(data, "scene", scene.path)
+    data = lit_by(scene.path, light)
     sky, sun = _light(data, np.asarray(wavelengths, float), scene.path.parent, scene.path)
     return scene._replace(sky=sky, sun=sun)
 

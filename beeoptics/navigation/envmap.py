@@ -3,7 +3,7 @@ heading, pitch and roll there resampled from it.
 
 Turning an eye about its head changes only which directions its receptors
 look in, so a place needs one trace, not one per heading. The map is traced
-by the receptors' own tracer (:func:`beeoptics.pipeline.trace.trace_cones`:
+by the receptors' own tracer (:func:`beeoptics.tracing.trace_cones`:
 its sampling, light, replicates and standard errors) as a synthetic eye whose
 receptors look along the directions of a grid on the sphere, each with a
 small Gaussian acceptance of its own. A receptor's catch is then the

@@ -3,7 +3,7 @@ an animation, a table of responses, the optic flow and the approached flower's c
 
 Each stage reads its inputs, calls the library and writes ``outputs``, a
 mapping of output names to paths, atomically. A frame is traced exactly as
-a scene is (:func:`beeoptics.pipeline.trace.trace_receptors`), with the scene's
+a scene is (:func:`beeoptics.tracing.trace_receptors`), with the scene's
 eye moved to the flight's pose at the frame's time
 (:mod:`beeoptics.world.flight`). A flight's frames are traced in shares of
 a few frames a job (``frames_per_job``): each job reads the scene once, and
