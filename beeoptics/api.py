@@ -261,8 +261,26 @@ class Scene:
     @property
     def materials(self):
         """The materials' names and spectral reflectance (pandas DataFrame: a row per material, a column per
-        wavelength, nm)."""
+        wavelength, nm; their surfaces' other properties in :attr:`surfaces`)."""
         return _frame(self.scene.reflectance, index=self.scene.material_names, columns=self.wavelengths_nm)
+
+    @property
+    def surfaces(self):
+        """How each material's surface scatters and emits (pandas DataFrame, a row per material): ``kind``,
+        "lambertian", "gloss" (a Phong lobe over the Lambertian base) or "coating" (a rough dielectric over
+        it, :mod:`beeoptics.light.coating`); the gloss's ``specular`` (its reflectance) and ``exponent``;
+        the coating's ``roughness`` (its GGX α); ``refractive_index`` (η, of the coating or the gloss);
+        ``emission_peak`` (the largest of its spectral radiance, W m⁻² sr⁻¹ nm⁻¹; 0 for a surface that
+        does not glow). NaN where the kind has no such property (``beeoptics/io/schemas/scene.schema.yaml``,
+        ``materials``)."""
+        scene = self.scene
+        coating, gloss = scene.roughness > 0.0, scene.specular > 0.0
+        return _frame({"kind": np.select([coating, gloss], ["coating", "gloss"], "lambertian"),
+                       "specular": np.where(gloss, scene.specular, np.nan),
+                       "exponent": np.where(gloss, scene.exponent, np.nan),
+                       "roughness": np.where(coating, scene.roughness, np.nan),
+                       "refractive_index": np.where(coating | gloss, scene.refractive_index, np.nan),
+                       "emission_peak": scene.emission.max(axis=1)}, index=scene.material_names)
 
     @property
     def objects(self):

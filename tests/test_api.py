@@ -139,6 +139,27 @@ def test_a_scene_shows_its_objects_materials_and_the_light_it_is_lit_by(scene):
     assert (relit["sun_elevation_deg"], relit["turbidity"], relit["sun_azimuth_deg"]) == (25.0, 4.0, 150.0)
 
 
+def test_a_scene_shows_how_each_material_s_surface_scatters_and_emits(tmp_path):
+    import shutil
+
+    import yaml
+
+    doc = yaml.safe_load(FLOWER.read_text())
+    doc["materials"].update({"sheen": {"reflectance": 0.2, "gloss": {"specular": 0.04, "exponent": 50}},
+                             "wet": {"reflectance": 0.0, "coating": {"roughness": 0.001, "refractive_index": 1.3334}},
+                             "lamp": {"reflectance": 0.5, "emission": 2.0}})
+    shutil.copy(FLOWER.parent / "daisy.obj", tmp_path)
+    (tmp_path / "scene.yaml").write_text(yaml.safe_dump(doc))
+    surfaces = beeoptics.load_scene(tmp_path / "scene.yaml", step_nm=STEP_NM, geometry=False).surfaces
+    assert surfaces.kind.to_dict() == {"centre": "lambertian", "tip": "lambertian", "leaf": "lambertian",
+                                       "sheen": "gloss", "wet": "coating", "lamp": "lambertian"}
+    assert surfaces.loc["sheen", ["specular", "exponent"]].tolist() == [0.04, 50.0]
+    assert surfaces.loc["wet", ["roughness", "refractive_index"]].tolist() == [0.001, 1.3334]
+    assert surfaces.loc["lamp", "emission_peak"] == 2.0 and surfaces.loc["leaf", "emission_peak"] == 0.0
+    # What a kind does not have is not shown as a number: a Lambertian surface has no lobe and no η.
+    assert surfaces.loc["leaf", ["specular", "exponent", "roughness", "refractive_index"]].isna().all()
+
+
 def test_an_eye_names_each_receptor_s_classes_and_a_view_labels_its_radiance(eye, view):
     assert set(eye.receptors["classes"]) == {"UV B G"}
     fly = beeoptics.load_eye(ROOT / "eyes" / "drosophila_melanogaster" / "ommatidia.csv",
