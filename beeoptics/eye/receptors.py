@@ -16,7 +16,7 @@ from scipy.spatial import QhullError, cKDTree
 
 from beeoptics.eye.lattice import edge_angles, mean_over_edges, sphere_triangles, triangle_edges
 from beeoptics.headframe import LEFT, RIGHT, SIDES, mirror
-from beeoptics.io import interchange, oces
+from beeoptics.io import interchange
 from beeoptics.io.errors import InputError
 from beeoptics.io.receptortable import ReceptorTable, checked, read_receptors
 
@@ -173,6 +173,10 @@ def read_receptor_file(path, *, units="mm", frame=None, acceptance="fwhm", side=
     if kind == ".ply":
         return interchange.read_receptor_ply(path)
     if kind in (".gltf", ".glb"):
+        # Imported here: its glTF library (pygltflib, with dataclasses-json and marshmallow) adds 30–40 ms to
+        # the start of every job and command that reads receptors, nearly all of which read a CSV.
+        from beeoptics.io import oces
+
         return oces.read_oces(path)
     spacing = facet_diameter_um == "spacing"
     table = interchange.read_compoundray_eye(path, side=side or "auto", units=units, frame=frame,
